@@ -1,0 +1,67 @@
+// Google Benchmark: bunches generated per second per preset (generation alone, and
+// generation plus the full exact ground truth), and the mesh.
+#include "synth/generate.h"
+#include "synth/ground_truth.h"
+#include "synth/mesh.h"
+#include "synth/params.h"
+#include "synth/rng.h"
+
+#include <benchmark/benchmark.h>
+
+namespace {
+
+using namespace grapebench;
+
+void BM_Generate(benchmark::State& state, std::string name) {
+  const BunchParams p = preset(name);
+  std::uint64_t i = 0;
+  for (auto _ : state) {
+    Bunch b = generate_bunch(p, derive_seed(7, i++));
+    benchmark::DoNotOptimize(b.berries.data());
+  }
+  state.counters["bunches_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_GenerateWithGroundTruth(benchmark::State& state, std::string name) {
+  const BunchParams p = preset(name);
+  std::uint64_t i = 0;
+  for (auto _ : state) {
+    const Bunch b = generate_bunch(p, derive_seed(7, i++));
+    GroundTruth g = compute_ground_truth(b, p.density);
+    benchmark::DoNotOptimize(g.volume.solid);
+  }
+  state.counters["bunches_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_VolumeOnly(benchmark::State& state, std::string name) {
+  const Bunch b = generate_bunch(preset(name), 7);
+  for (auto _ : state) {
+    VolumeTerms v = solid_volume_terms(b);
+    benchmark::DoNotOptimize(v.solid);
+  }
+}
+
+void BM_Mesh(benchmark::State& state) {
+  const Bunch b = generate_bunch(preset("table-red"), 7);
+  MeshOptions o;
+  o.sphere_subdivisions = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    TriMesh m = bunch_mesh(b, o);
+    benchmark::DoNotOptimize(m.faces.data());
+  }
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_Generate, table_red, std::string("table-red"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Generate, wine_red, std::string("wine-red"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Generate, summer_black, std::string("summer-black"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Generate, green_table, std::string("green-table"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, table_red, std::string("table-red"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, wine_red, std::string("wine-red"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, summer_black, std::string("summer-black"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, green_table, std::string("green-table"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_VolumeOnly, table_red, std::string("table-red"))->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Mesh)->Arg(2)->Arg(4)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();

@@ -1,0 +1,209 @@
+#include "synth/config.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace grapebench {
+
+namespace {
+
+std::string line_of(const YAML::Node& n) {
+  const YAML::Mark m = n.Mark();
+  return m.line >= 0 ? std::to_string(m.line + 1) : "?";
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+ConfigNode::ConfigNode(YAML::Node node, std::shared_ptr<State> state, std::string path)
+    : node_(std::move(node)),
+      state_(std::move(state)),
+      path_(std::move(path)),
+      used_(std::make_shared<std::set<std::string>>()) {}
+
+ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(name + ":" + std::to_string(e.mark.line + 1) +
+                     ": YAML syntax error: " + e.msg);
+  }
+  if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  auto state = std::make_shared<State>();
+  state->file = name;
+  ConfigNode cfg(root, state, "");
+  if (!root.IsMap()) cfg.fail("", "the document must be a mapping of keys to values");
+  return cfg;
+}
+
+ConfigNode ConfigNode::load_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_string(text.str(), path);
+}
+
+std::string ConfigNode::where(const std::string& key) const {
+  if (!key.empty() && node_.IsMap() && node_[key]) {
+    return state_->file + ":" + line_of(node_[key]);
+  }
+  return state_->file + ":" + line_of(node_);
+}
+
+void ConfigNode::fail(const std::string& key, const std::string& message) const {
+  std::string name = path_;
+  if (!key.empty()) name += (name.empty() ? "" : ".") + key;
+  throw InputError(where(key) + ": " + (name.empty() ? "" : "'" + name + "': ") + message);
+}
+
+bool ConfigNode::has(const std::string& key) const {
+  return node_.IsMap() && static_cast<bool>(node_[key]);
+}
+
+YAML::Node ConfigNode::value(const std::string& key) const {
+  used_->insert(key);
+  return node_[key];
+}
+
+double ConfigNode::get_real(const std::string& key, double fallback, double lo,
+                            double hi) const {
+  if (!has(key)) return fallback;
+  const YAML::Node v = value(key);
+  double x = 0;
+  try {
+    if (!v.IsScalar()) throw YAML::Exception(v.Mark(), "not a scalar");
+    x = v.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(key, "expected a number in [" + fmt(lo) + ", " + fmt(hi) + "]");
+  }
+  if (!std::isfinite(x) || x < lo || x > hi) {
+    fail(key, "value " + v.Scalar() + " is outside the allowed range [" + fmt(lo) + ", " +
+                  fmt(hi) + "]");
+  }
+  return x;
+}
+
+std::int64_t ConfigNode::get_int(const std::string& key, std::int64_t fallback,
+                                 std::int64_t lo, std::int64_t hi) const {
+  if (!has(key)) return fallback;
+  const YAML::Node v = value(key);
+  std::int64_t x = 0;
+  try {
+    if (!v.IsScalar()) throw YAML::Exception(v.Mark(), "not a scalar");
+    x = v.as<std::int64_t>();
+  } catch (const YAML::Exception&) {
+    fail(key, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                  "]");
+  }
+  if (x < lo || x > hi) {
+    fail(key, "value " + v.Scalar() + " is outside the allowed range [" + std::to_string(lo) +
+                  ", " + std::to_string(hi) + "]");
+  }
+  return x;
+}
+
+std::uint64_t ConfigNode::get_seed(const std::string& key, std::uint64_t fallback) const {
+  if (!has(key)) return fallback;
+  const YAML::Node v = value(key);
+  try {
+    if (!v.IsScalar() || v.Scalar().empty() || v.Scalar()[0] == '-') {
+      throw YAML::Exception(v.Mark(), "bad seed");
+    }
+    return v.as<std::uint64_t>();
+  } catch (const YAML::Exception&) {
+    fail(key, "expected an unsigned integer seed in [0, 18446744073709551615]");
+  }
+}
+
+std::string ConfigNode::get_string(const std::string& key, const std::string& fallback) const {
+  if (!has(key)) return fallback;
+  const YAML::Node v = value(key);
+  if (!v.IsScalar()) fail(key, "expected a string");
+  return v.Scalar();
+}
+
+std::string ConfigNode::get_choice(const std::string& key, const std::string& fallback,
+                                   const std::vector<std::string>& allowed) const {
+  const std::string s = get_string(key, fallback);
+  for (const auto& a : allowed) {
+    if (a == s) return s;
+  }
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  fail(key, "unknown value '" + s + "'; allowed: " + list);
+}
+
+std::vector<double> ConfigNode::get_real_list(const std::string& key, std::size_t count,
+                                              double lo, double hi) const {
+  const YAML::Node v = value(key);
+  const std::string range = "[" + fmt(lo) + ", " + fmt(hi) + "]";
+  if (!v.IsSequence() || v.size() != count) {
+    fail(key, "expected a list of " + std::to_string(count) + " numbers in " + range);
+  }
+  std::vector<double> out;
+  for (const auto& e : v) {
+    double x = 0;
+    try {
+      x = e.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(key, "expected a list of " + std::to_string(count) + " numbers in " + range);
+    }
+    if (!std::isfinite(x) || x < lo || x > hi) {
+      fail(key, "element " + e.Scalar() + " is outside the allowed range " + range);
+    }
+    out.push_back(x);
+  }
+  return out;
+}
+
+ConfigNode ConfigNode::child(const std::string& key) const {
+  const YAML::Node v = value(key);
+  if (!v.IsMap()) fail(key, "expected a mapping of keys to values");
+  ConfigNode c(v, state_, path_.empty() ? key : path_ + "." + key);
+  state_->handed_out.push_back({c.node_, c.path_, c.used_});
+  return c;
+}
+
+std::vector<ConfigNode> ConfigNode::children(const std::string& key) const {
+  const YAML::Node v = value(key);
+  if (!v.IsSequence()) fail(key, "expected a list of mappings");
+  std::vector<ConfigNode> out;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const std::string p = (path_.empty() ? key : path_ + "." + key) + "[" + std::to_string(i) + "]";
+    if (!v[i].IsMap()) {
+      throw InputError(state_->file + ":" + line_of(v[i]) + ": '" + p +
+                       "': expected a mapping of keys to values");
+    }
+    ConfigNode c(v[i], state_, p);
+    state_->handed_out.push_back({c.node_, c.path_, c.used_});
+    out.push_back(c);
+  }
+  return out;
+}
+
+void ConfigNode::report_unused() const {
+  std::string errors;
+  auto check = [&](const Handed& n) {
+    for (const auto& kv : n.node) {
+      const std::string k = kv.first.Scalar();
+      if (!n.used->count(k)) {
+        const std::string name = n.path.empty() ? k : n.path + "." + k;
+        errors += (errors.empty() ? "" : "\n") + state_->file + ":" + line_of(kv.first) +
+                  ": unknown key '" + name + "'";
+      }
+    }
+  };
+  check({node_, path_, used_});
+  for (const auto& c : state_->handed_out) check(c);
+  if (!errors.empty()) throw InputError(errors);
+}
+
+}  // namespace grapebench

@@ -1,0 +1,76 @@
+// Strict reading of YAML scene files. Every value read is checked against its
+// allowed range, every error names the file, line and key, and keys that nobody
+// read are reported as errors (pbrt's ReportUnused), so a typo never passes
+// silently.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace grapebench {
+
+// Any bad input: scene files, parameters, point clouds, degenerate geometry.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A mapping node of a YAML document that remembers which keys were read.
+class ConfigNode {
+ public:
+  // Parses `path`; throws InputError on I/O or syntax errors.
+  static ConfigNode load_file(const std::string& path);
+  // Parses text; `name` stands for the file in messages.
+  static ConfigNode load_string(const std::string& text, const std::string& name);
+
+  bool has(const std::string& key) const;
+  // Typed getters: a missing key returns `fallback`; a present key must convert and
+  // lie in [lo, hi], or InputError names file:line, the key and the range.
+  double get_real(const std::string& key, double fallback, double lo, double hi) const;
+  std::int64_t get_int(const std::string& key, std::int64_t fallback, std::int64_t lo,
+                       std::int64_t hi) const;
+  std::uint64_t get_seed(const std::string& key, std::uint64_t fallback) const;
+  std::string get_string(const std::string& key, const std::string& fallback) const;
+  std::string get_choice(const std::string& key, const std::string& fallback,
+                         const std::vector<std::string>& allowed) const;
+  std::vector<double> get_real_list(const std::string& key, std::size_t count, double lo,
+                                    double hi) const;
+  // A nested mapping (must be a mapping) or a sequence of mappings.
+  ConfigNode child(const std::string& key) const;
+  std::vector<ConfigNode> children(const std::string& key) const;
+
+  // Throws InputError listing every key of this node and of the children handed out
+  // that was never read.
+  void report_unused() const;
+
+  // "file:line" of a key (or of the node itself when key is empty).
+  std::string where(const std::string& key = {}) const;
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+  const std::string& file() const { return state_->file; }
+
+ private:
+  struct Handed {  // a child handed out, for report_unused (no cycle through State)
+    YAML::Node node;
+    std::string path;
+    std::shared_ptr<std::set<std::string>> used;
+  };
+  struct State {
+    std::string file;
+    std::vector<Handed> handed_out;
+  };
+  ConfigNode(YAML::Node node, std::shared_ptr<State> state, std::string path);
+  YAML::Node value(const std::string& key) const;
+
+  YAML::Node node_;
+  std::shared_ptr<State> state_;
+  std::string path_;  // dotted key path for messages, e.g. "bunches[0]"
+  std::shared_ptr<std::set<std::string>> used_;
+};
+
+}  // namespace grapebench

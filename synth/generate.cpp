@@ -1,0 +1,421 @@
+#include "synth/generate.h"
+
+#include "synth/rng.h"
+#include "synth/stem_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace grapebench {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// A berry during packing: attached at `anchor` on its carrier stem's axis.
+struct Seedling {
+  Vec3 anchor;
+  int carrier;          // stem index
+  double reach;         // nominal |centre - anchor| = pedicel length outside + radius
+  double reach_max;     // the pedicel may stretch up to this to make room
+  double radius;
+  Vec3 centre;
+  Rgb colour;
+  bool alive = true;
+};
+
+Vec3 pedicel_end(const Seedling& s) {
+  const Vec3 d = (s.centre - s.anchor).normalized();
+  return s.centre - 0.5 * s.radius * d;
+}
+
+// Keeps the pedicel at least `min_angle` away from its carrier's axis (a pedicel
+// along its branch would run inside it) and its length within [nominal, maximum];
+// `spring` in [0, 1] pulls a stretched pedicel back towards its nominal length.
+void enforce_rod(Seedling& s, const Vec3& carrier_axis, double min_angle, double spring = 0) {
+  Vec3 d = s.centre - s.anchor;
+  double len = d.norm();
+  if (len < 1e-12) {
+    d = Vec3(0, 0, -1);
+    len = s.reach;
+  }
+  d /= len;
+  len = std::clamp(len, s.reach, s.reach_max);
+  len -= spring * (len - s.reach);
+  const double c = d.dot(carrier_axis), cmax = std::cos(min_angle);
+  if (std::abs(c) > cmax) {
+    Vec3 perp = d - c * carrier_axis;
+    if (perp.squaredNorm() < 1e-20) {
+      Vec3 e1, e2;
+      perpendicular_basis(carrier_axis, e1, e2);
+      perp = e1;
+    }
+    perp.normalize();
+    d = (c > 0 ? 1.0 : -1.0) * cmax * carrier_axis + std::sin(min_angle) * perp;
+  }
+  s.centre = s.anchor + len * d;
+}
+
+float clamp01(double v) { return static_cast<float>(std::clamp(v, 0.0, 1.0)); }
+
+}  // namespace
+
+Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport* report) {
+  validate_bunch_params(p, "bunch parameters");
+  Rng rng(seed);
+  Bunch bunch;
+  // Bunches with more berries are bigger: the rachis length follows the berry count's
+  // quantile (with noise) and the branches scale with it.
+  const int requested = rng.uniform_int(p.berry_count_min, p.berry_count_max);
+  const double q = p.berry_count_max > p.berry_count_min
+                       ? static_cast<double>(requested - p.berry_count_min) / (p.berry_count_max - p.berry_count_min)
+                       : 0.5;
+  const double size = std::clamp(q + rng.uniform(-0.25, 0.25), 0.0, 1.0);
+  const double L = p.rachis_length_min + size * (p.rachis_length_max - p.rachis_length_min);
+  const double branch_scale = 0.85 + 0.3 * size;
+
+  // Peduncle: the rachis top J = origin lies on its axis, `stub` above its lower end,
+  // so the rachis's first segment starts strictly inside it.
+  const double tilt = p.peduncle_angle * kDeg, azimuth = rng.uniform(0, 2 * M_PI);
+  const Vec3 up(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
+                std::cos(tilt));
+  const double stub = p.rachis_radius_top;
+  bunch.top = Vec3::Zero();
+  bunch.peduncle_direction = up;
+  bunch.cutting_point = p.cutting_point_fraction * p.peduncle_length * up;
+  bunch.stems.push_back({-stub * up, p.peduncle_length * up, p.peduncle_radius, Part::Peduncle});
+  bunch.peduncle = 0;
+
+  // Branch heights below J, jittered around a regular spacing.
+  std::vector<double> heights;
+  for (double h = p.rachis_bare_length; h <= L - p.branch_spacing; h += p.branch_spacing) {
+    heights.push_back(h + rng.uniform(-0.1, 0.1) * p.branch_spacing);
+  }
+  if (heights.empty()) heights.push_back(0.5 * (p.rachis_bare_length + L));
+  const int nb = static_cast<int>(heights.size());
+
+  // Rachis: one segment per branch, boundaries halfway between branches, radius
+  // tapering linearly with depth; segment 0 is the peduncle's child, the others are
+  // stacked coaxially on their predecessor.
+  std::vector<int> segment(nb);
+  for (int k = 0; k < nb; ++k) {
+    const double z0 = k == 0 ? 0.0 : 0.5 * (heights[k - 1] + heights[k]);
+    const double z1 = k + 1 == nb ? L : 0.5 * (heights[k] + heights[k + 1]);
+    const double frac = 0.5 * (z0 + z1) / L;
+    const double r = p.rachis_radius_top + (p.rachis_radius_bottom - p.rachis_radius_top) * frac;
+    Stem s{Vec3(0, 0, -z0), Vec3(0, 0, -z1), r, Part::Rachis};
+    if (k == 0) s.parent = bunch.peduncle;
+    else s.stacked_on = segment[k - 1];
+    segment[k] = static_cast<int>(bunch.stems.size());
+    bunch.stems.push_back(s);
+  }
+
+  // Lateral branches, phyllotactic azimuths, shorter down the bunch.
+  struct Carrier {
+    int stem;
+    double t0, t1;  // usable interval along the stem, m from its start
+  };
+  std::vector<Carrier> carriers;
+  const double phi0 = rng.uniform(0, 2 * M_PI);
+  int branches = 0;
+  for (int k = 0; k < nb; ++k) {
+    const double s = nb > 1 ? static_cast<double>(k) / (nb - 1) : 0.0;
+    const double len = (p.branch_length_top + (p.branch_length_bottom - p.branch_length_top) * s) *
+                       branch_scale * rng.uniform(0.9, 1.1);
+    const Vec3 a(0, 0, -heights[k]);
+    // A branch that would touch another stem is drawn again, then left out.
+    for (int attempt = 0; attempt < 8; ++attempt) {
+      const double phi = phi0 + k * 137.508 * kDeg + rng.uniform(-15, 15) * kDeg + attempt * 0.9;
+      const double alpha = (p.branch_angle + rng.uniform(-5, 5) + 2 * attempt) * kDeg;
+      const Vec3 d(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), -std::cos(alpha));
+      Stem br{a, a + len * d, p.branch_radius, Part::Rachis};
+      br.parent = segment[k];
+      bool clear = true;
+      for (int j = 0; j < static_cast<int>(bunch.stems.size()) && clear; ++j) {
+        const Stem& o = bunch.stems[j];
+        clear = j == br.parent ||
+                segment_segment_distance(br.start, br.end, o.start, o.end) >= br.radius + o.radius;
+      }
+      if (!clear) continue;
+      const int idx = static_cast<int>(bunch.stems.size());
+      bunch.stems.push_back(br);
+      ++branches;
+      const double reach_out = (bunch.stems[segment[k]].radius + p.pedicel_radius) / std::sin(alpha) +
+                               2 * p.pedicel_radius;
+      const double t0 = std::max(0.3 * len, reach_out), t1 = len - 1.5 * p.pedicel_radius;
+      if (t1 > t0) carriers.push_back({idx, t0, t1});
+      break;
+    }
+  }
+  // The rachis tip carries berries too.
+  {
+    const Stem& last = bunch.stems[segment[nb - 1]];
+    const double seg_len = (last.end - last.start).norm();
+    const double t1 = seg_len - 1.5 * p.pedicel_radius;
+    const double t0 = std::max(0.55 * seg_len, t1 - p.branch_spacing);
+    if (t1 > t0) carriers.push_back({segment[nb - 1], t0, t1});
+  }
+
+  // Berries per carrier in proportion to usable length (largest remainder).
+  std::vector<double> weight;
+  for (const auto& c : carriers) weight.push_back(c.t1 - c.t0);
+  const double wsum = std::accumulate(weight.begin(), weight.end(), 0.0);
+  std::vector<int> count(carriers.size());
+  std::vector<std::pair<double, int>> remainder;
+  int assigned = 0;
+  for (std::size_t c = 0; c < carriers.size(); ++c) {
+    const double exact = requested * weight[c] / wsum;
+    count[c] = static_cast<int>(std::floor(exact));
+    assigned += count[c];
+    remainder.emplace_back(-(exact - count[c]), static_cast<int>(c));
+  }
+  std::sort(remainder.begin(), remainder.end());
+  for (int k = 0; assigned < requested; ++k, ++assigned) ++count[remainder[k % remainder.size()].second];
+
+  const double min_pedicel_angle = 35 * kDeg;
+  std::vector<Seedling> seeds;
+  for (std::size_t c = 0; c < carriers.size(); ++c) {
+    const Stem& carrier = bunch.stems[carriers[c].stem];
+    const Vec3 axis = (carrier.end - carrier.start).normalized();
+    for (int k = 0; k < count[c]; ++k) {
+      const double u = (k + 0.5 + rng.uniform(-0.3, 0.3)) / count[c];
+      const double t = carriers[c].t0 + u * (carriers[c].t1 - carriers[c].t0);
+      Seedling s;
+      s.carrier = carriers[c].stem;
+      s.anchor = carrier.start + t * axis;
+      s.radius = std::clamp(rng.normal(p.berry_radius_mean, p.berry_radius_sd), p.berry_radius_min,
+                            p.berry_radius_max);
+      const double ped = std::max(0.4 * p.pedicel_length_mean,
+                                  rng.normal(p.pedicel_length_mean, p.pedicel_length_sd));
+      s.reach = ped + s.radius;
+      s.reach_max = p.pedicel_stretch * ped + s.radius;
+      Vec3 radial(s.anchor.x(), s.anchor.y(), 0);
+      radial = radial.squaredNorm() > 1e-12 ? radial.normalized() : Vec3(axis.x(), axis.y(), 0);
+      const Vec3 jitter(rng.normal(), rng.normal(), rng.normal());
+      Vec3 dir = radial + 0.4 * axis + 0.8 * jitter.normalized() + Vec3(0, 0, -0.3);
+      if (dir.squaredNorm() < 1e-12) dir = Vec3(0, 0, -1);
+      s.centre = s.anchor + s.reach * dir.normalized();
+      enforce_rod(s, axis, min_pedicel_angle);
+      const double shade = rng.normal(0, p.colour_variation);
+      s.colour = {clamp01(p.berry_colour.r * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation)),
+                  clamp01(p.berry_colour.g * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation)),
+                  clamp01(p.berry_colour.b * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation))};
+      seeds.push_back(s);
+    }
+  }
+
+  // Packing relaxation (position-based dynamics, Gauss-Seidel, fixed order).
+  const double press = p.compactness * p.max_press_depth;
+  const double clearance = 0.1 * p.pedicel_radius;
+  const std::size_t n = seeds.size();
+  std::vector<Vec3> carrier_axis(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Stem& c = bunch.stems[seeds[i].carrier];
+    carrier_axis[i] = (c.end - c.start).normalized();
+  }
+  const std::size_t skeleton = bunch.stems.size();  // peduncle, rachis, branches
+  auto push_from_segment = [&](Seedling& s, const Vec3& a, const Vec3& b, double need) {
+    const Vec3 ab = b - a;
+    const double t = std::clamp((s.centre - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    const Vec3 q = a + t * ab;
+    Vec3 off = s.centre - q;
+    const double dist = off.norm();
+    if (dist >= need) return;
+    if (dist < 1e-12) off = Vec3(0, 0, -1);
+    s.centre = q + need * off.normalized();
+  };
+  const int total_iterations = p.relax_iterations + (p.relax_iterations > 0 ? 100 : 0);
+  for (int it = 0; it < total_iterations; ++it) {
+    const bool settle = it >= p.relax_iterations;  // last steps: constraints only
+    for (std::size_t i = 0; i < n; ++i) {
+      Seedling& s = seeds[i];
+      if (!settle) {
+        // Forces fade out so the packing ends in equilibrium.
+        const double fade = 1.0 - static_cast<double>(it) / p.relax_iterations;
+        const double pull = 0.015 * p.compactness * fade;
+        s.centre.x() -= pull * s.centre.x();
+        s.centre.y() -= pull * s.centre.y();
+        s.centre.z() -= 0.03 * s.radius * (1.0 - 0.5 * p.compactness) * fade;
+      }
+      for (std::size_t j = i + 1; j < n; ++j) {
+        Seedling& o = seeds[j];
+        const double dmin = s.radius + o.radius - press * std::min(s.radius, o.radius);
+        Vec3 delta = o.centre - s.centre;
+        const double d2 = delta.squaredNorm();
+        if (d2 >= dmin * dmin) continue;
+        double dist = std::sqrt(d2);
+        if (dist < 1e-12) {
+          delta = Vec3(0, 0, 1);
+          dist = 1e-12;
+        }
+        const Vec3 shift = 0.5 * (dmin - dist) / dist * delta;
+        s.centre -= shift;
+        o.centre += shift;
+      }
+      for (std::size_t k = 0; k < skeleton; ++k) {
+        const Stem& st = bunch.stems[k];
+        push_from_segment(s, st.start, st.end, s.radius + st.radius + clearance);
+      }
+      // A berry against another berry's pedicel: both give way; the pedicel turns
+      // about its anchor, so its berry moves by the push over the lever arm.
+      for (std::size_t j = 0; j < n; ++j) {
+        if (j == i) continue;
+        Seedling& o = seeds[j];
+        if ((o.anchor - s.centre).norm() > o.reach_max + s.radius + p.pedicel_radius) continue;
+        const Vec3 a = o.anchor, b = pedicel_end(o), ab = b - a;
+        const double t = std::clamp((s.centre - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+        const Vec3 q = a + t * ab;
+        const Vec3 off = s.centre - q;
+        const double dist = off.norm(), need = s.radius + p.pedicel_radius + clearance;
+        if (dist >= need || dist < 1e-12) continue;
+        const Vec3 push = (need - dist) * off / dist;
+        s.centre += 0.5 * push;
+        if (t > 0.05) o.centre -= 0.5 * push / t;
+      }
+      enforce_rod(s, carrier_axis[i], min_pedicel_angle, settle ? 0.0 : 0.05);
+    }
+  }
+
+  // Remove what the packing left in a contact the exact volume does not allow.
+  auto pedicel_clear_of = [&](const Seedling& a, const Seedling& b) {
+    return segment_segment_distance(a.anchor, pedicel_end(a), b.anchor, pedicel_end(b)) >=
+           2 * p.pedicel_radius;
+  };
+  int removed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    Seedling& s = seeds[i];
+    bool bad = false;
+    for (std::size_t k = 0; k < skeleton && !bad; ++k) {
+      const Stem& st = bunch.stems[k];
+      bad = point_segment_distance(s.centre, st.start, st.end) < s.radius + st.radius;
+      // The pedicel may only meet its carrier.
+      if (!bad && static_cast<int>(k) != s.carrier) {
+        bad = segment_segment_distance(s.anchor, pedicel_end(s), st.start, st.end) <
+              p.pedicel_radius + st.radius;
+      }
+    }
+    // Pressed further than allowed, or touching another kept berry's pedicel.
+    for (std::size_t j = 0; j < i && !bad; ++j) {
+      const Seedling& o = seeds[j];
+      if (!o.alive) continue;
+      const double depth = s.radius + o.radius - (s.centre - o.centre).norm();
+      bad = depth > press * std::min(s.radius, o.radius) * (1 + 1e-6) + 1e-12 ||
+            point_segment_distance(s.centre, o.anchor, pedicel_end(o)) < s.radius + p.pedicel_radius ||
+            point_segment_distance(o.centre, s.anchor, pedicel_end(s)) < o.radius + p.pedicel_radius ||
+            !pedicel_clear_of(s, o);
+    }
+    if (bad) {
+      s.alive = false;
+      ++removed;
+    }
+  }
+
+  for (const auto& s : seeds) {
+    if (!s.alive) continue;
+    Berry b;
+    b.centre = s.centre;
+    b.radius = s.radius;
+    b.colour = s.colour;
+    b.pedicel = static_cast<int>(bunch.stems.size());
+    Stem ped{s.anchor, pedicel_end(s), p.pedicel_radius, Part::Pedicel};
+    ped.parent = s.carrier;
+    ped.berry = static_cast<int>(bunch.berries.size());
+    bunch.stems.push_back(ped);
+    bunch.berries.push_back(b);
+  }
+
+  const auto problems = check_bunch(bunch);
+  if (!problems.empty()) {
+    throw InputError("bunch parameters give an invalid skeleton: " + problems.front() +
+                     " (try a larger branch_spacing or rachis_bare_length, or thinner stems)");
+  }
+  if (report) {
+    report->berries_requested = requested;
+    report->berries_removed = removed;
+    report->rachis_length = L;
+    report->branches = branches;
+  }
+  return bunch;
+}
+
+std::vector<std::string> check_bunch(const Bunch& b) {
+  std::vector<std::string> out;
+  const int ns = static_cast<int>(b.stems.size());
+  auto name = [&](int i) {
+    return std::string(part_name(b.stems[i].part)) + " stem " + std::to_string(i);
+  };
+  for (int j = 0; j < ns; ++j) {
+    const Stem& c = b.stems[j];
+    if (c.parent >= 0) {
+      const Stem& par = b.stems[c.parent];
+      const Vec3 w = (par.end - par.start).normalized();
+      const double plen = (par.end - par.start).norm();
+      const Vec3 rel = c.start - par.start;
+      const double axial = rel.dot(w), off = (rel - axial * w).norm();
+      const Vec3 d = (c.end - c.start).normalized();
+      const double reach = c.radius * std::sqrt(std::max(0.0, 1 - std::pow(d.dot(w), 2)));
+      if (off > 1e-9 || c.radius >= par.radius || axial < reach || axial > plen - reach) {
+        out.push_back(name(j) + " does not start inside its parent " + name(c.parent));
+      }
+    }
+    if (c.stacked_on >= 0) {
+      const Stem& below = b.stems[c.stacked_on];
+      const Vec3 w0 = (below.end - below.start).normalized(), w1 = (c.end - c.start).normalized();
+      if ((c.start - below.end).norm() > 1e-12 || w0.dot(w1) < 1 - 1e-12 || c.radius > below.radius) {
+        out.push_back(name(j) + " is not stacked coaxially on " + name(c.stacked_on));
+      }
+    }
+    for (int i = 0; i < j; ++i) {
+      const Stem& a = b.stems[i];
+      if (c.parent == i || a.parent == j || c.stacked_on == i || a.stacked_on == j) continue;
+      if (segment_segment_distance(a.start, a.end, c.start, c.end) < a.radius + c.radius) {
+        out.push_back(name(i) + " touches " + name(j));
+      }
+    }
+  }
+  for (int k = 0; k < static_cast<int>(b.berries.size()); ++k) {
+    const Berry& be = b.berries[k];
+    for (int i = 0; i < ns; ++i) {
+      const Stem& s = b.stems[i];
+      if (i == be.pedicel) {
+        try {
+          if (s.berry != k) throw InputError("pedicel does not name its berry");
+          pedicel_in_berry_volume(s, be);
+        } catch (const InputError&) {
+          out.push_back("pedicel " + std::to_string(i) + " does not enter berry " +
+                        std::to_string(k) + " as the volume formula requires");
+        }
+        continue;
+      }
+      if (point_segment_distance(be.centre, s.start, s.end) < be.radius + s.radius) {
+        out.push_back(name(i) + " touches berry " + std::to_string(k));
+      }
+    }
+  }
+  return out;
+}
+
+double max_press_ratio(const Bunch& b) {
+  double worst = 0;
+  for (std::size_t i = 0; i < b.berries.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      const auto &x = b.berries[i], &y = b.berries[j];
+      const double depth = x.radius + y.radius - (x.centre - y.centre).norm();
+      worst = std::max(worst, depth / std::min(x.radius, y.radius));
+    }
+  }
+  return worst;
+}
+
+std::string_view part_name(Part p) {
+  switch (p) {
+    case Part::Berry: return "berry";
+    case Part::Pedicel: return "pedicel";
+    case Part::Rachis: return "rachis";
+    case Part::Peduncle: return "peduncle";
+  }
+  return "unknown";
+}
+
+}  // namespace grapebench

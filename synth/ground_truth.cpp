@@ -1,0 +1,161 @@
+#include "synth/ground_truth.h"
+
+#include "synth/ball_union.h"
+#include "synth/config.h"
+#include "synth/stem_geometry.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+namespace grapebench {
+
+namespace {
+
+// Largest value of f over a circle (centre o, radius r, plane basis e1 e2): a fine
+// scan then golden-section refinement of the best bracket.
+template <class F>
+double circle_max(const Vec3& o, double r, const Vec3& e1, const Vec3& e2, F f) {
+  auto at = [&](double phi) { return f(o + r * (std::cos(phi) * e1 + std::sin(phi) * e2)); };
+  const int n = 144;
+  int best = 0;
+  double bestv = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k) {
+    const double v = at(2 * M_PI * k / n);
+    if (v > bestv) { bestv = v; best = k; }
+  }
+  double a = 2 * M_PI * (best - 1) / n, b = 2 * M_PI * (best + 1) / n;
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  for (int it = 0; it < 60; ++it) {
+    const double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    if (at(x1) > at(x2)) b = x2; else a = x1;
+  }
+  return std::max(bestv, at(0.5 * (a + b)));
+}
+
+}  // namespace
+
+VolumeTerms solid_volume_terms(const Bunch& bunch) {
+  VolumeTerms t;
+  std::vector<Vec3> centres;
+  std::vector<double> radii;
+  for (const auto& b : bunch.berries) {
+    centres.push_back(b.centre);
+    radii.push_back(b.radius);
+    t.berries_sum += 4.0 / 3.0 * M_PI * b.radius * b.radius * b.radius;
+  }
+  t.berries_union = union_of_balls_volume(centres, radii);
+  for (const auto& s : bunch.stems) {
+    t.stems += M_PI * s.radius * s.radius * (s.end - s.start).norm();
+    if (s.parent >= 0) t.junction_overlap += junction_overlap_volume(s, bunch.stems[s.parent]);
+    if (s.berry >= 0) t.pedicel_in_berry += pedicel_in_berry_volume(s, bunch.berries[s.berry]);
+  }
+  t.solid = t.berries_union + t.stems - t.junction_overlap - t.pedicel_in_berry;
+  return t;
+}
+
+GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
+  if (bunch.berries.empty()) throw InputError("ground truth: the bunch has no berries");
+  GroundTruth g;
+  g.volume = solid_volume_terms(bunch);
+  g.density = density;
+  g.mass = density * g.volume.solid * 1e6;  // g/cm3 * cm3
+  g.berry_count = static_cast<int>(bunch.berries.size());
+  g.cutting_point = bunch.cutting_point;
+  g.peduncle_direction = bunch.peduncle_direction;
+
+  // PCA of the berries as solid balls: covariance of a ball is R^2/5 I.
+  double wsum = 0;
+  Vec3 mean = Vec3::Zero();
+  for (const auto& b : bunch.berries) {
+    const double w = std::pow(b.radius, 3);
+    wsum += w;
+    mean += w * b.centre;
+  }
+  mean /= wsum;
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& b : bunch.berries) {
+    const double w = std::pow(b.radius, 3) / wsum;
+    const Vec3 d = b.centre - mean;
+    cov += w * (d * d.transpose() + 0.2 * b.radius * b.radius * Eigen::Matrix3d::Identity());
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Eigen::Matrix3d axes;
+  for (int k = 0; k < 3; ++k) {
+    Vec3 a = eig.eigenvectors().col(2 - k);  // decreasing eigenvalue
+    int big = 0;
+    a.cwiseAbs().maxCoeff(&big);
+    if (a[big] < 0) a = -a;  // deterministic sign
+    axes.col(k) = a;
+  }
+  axes.col(2) = axes.col(0).cross(axes.col(1));
+  g.pca_centre = mean;
+  g.pca_axes = axes;
+
+  // Exact extents of the body (all but the peduncle) along a direction u.
+  auto extent = [&](const Vec3& u) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& b : bunch.berries) {
+      lo = std::min(lo, b.centre.dot(u) - b.radius);
+      hi = std::max(hi, b.centre.dot(u) + b.radius);
+    }
+    for (const auto& s : bunch.stems) {
+      if (s.part == Part::Peduncle) continue;
+      const Vec3 d = (s.end - s.start).normalized();
+      const double rim = s.radius * std::sqrt(std::max(0.0, 1 - std::pow(d.dot(u), 2)));
+      for (const Vec3& c : {s.start, s.end}) {
+        lo = std::min(lo, c.dot(u) - rim);
+        hi = std::max(hi, c.dot(u) + rim);
+      }
+    }
+    return std::pair{lo, hi};
+  };
+  for (int k = 0; k < 3; ++k) {
+    const auto [lo, hi] = extent(axes.col(k));
+    g.pca_extent[k] = hi - lo;
+  }
+  const auto [zlo, zhi] = extent(Vec3::UnitZ());
+  g.height = zhi - zlo;
+  g.height_from_cutting_point = bunch.cutting_point.z() - zlo;
+
+  // Maximum diameter about the vertical through the cutting point.
+  const Eigen::Vector2d axis_xy = bunch.cutting_point.head<2>();
+  auto radial = [&](const Vec3& x) { return (x.head<2>() - axis_xy).norm(); };
+  double rmax = 0;
+  for (const auto& b : bunch.berries) rmax = std::max(rmax, radial(b.centre) + b.radius);
+  for (const auto& s : bunch.stems) {
+    if (s.part == Part::Peduncle) continue;
+    const Vec3 d = (s.end - s.start).normalized();
+    Vec3 e1, e2;
+    perpendicular_basis(d, e1, e2);
+    for (const Vec3& c : {s.start, s.end}) rmax = std::max(rmax, circle_max(c, s.radius, e1, e2, radial));
+  }
+  g.max_diameter = 2 * rmax;
+
+  envelope_bounds(bunch, g.envelope_lower, g.envelope_upper);
+  g.envelope_volume = 0.5 * (g.envelope_lower + g.envelope_upper);
+  g.compactness = g.volume.solid / g.envelope_volume;
+
+  // Bounding box of the whole solid.
+  g.bbox_min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  g.bbox_max = -g.bbox_min;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 u = Vec3::Unit(k);
+    for (const auto& b : bunch.berries) {
+      g.bbox_min[k] = std::min(g.bbox_min[k], b.centre[k] - b.radius);
+      g.bbox_max[k] = std::max(g.bbox_max[k], b.centre[k] + b.radius);
+    }
+    for (const auto& s : bunch.stems) {
+      const Vec3 d = (s.end - s.start).normalized();
+      const double rim = s.radius * std::sqrt(std::max(0.0, 1 - d[k] * d[k]));
+      for (const Vec3& c : {s.start, s.end}) {
+        g.bbox_min[k] = std::min(g.bbox_min[k], c.dot(u) - rim);
+        g.bbox_max[k] = std::max(g.bbox_max[k], c.dot(u) + rim);
+      }
+    }
+  }
+  return g;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,72 @@
+// Exact ground truth of a generated bunch, computed from its primitives.
+#pragma once
+
+#include "synth/types.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace grapebench {
+
+// Terms of the solid volume (m3):
+//   solid = berries_union + stems - junction_overlap - pedicel_in_berry
+// berries_union: the union of all berry balls, exact (power cells, ball_union.h);
+// stems: sum of the stem cylinders, pi r^2 l each;
+// junction_overlap: each child stem ∩ its parent (stem_geometry.h);
+// pedicel_in_berry: each pedicel ∩ its own berry, closed form.
+// check_bunch() guarantees these are the only intersections among stems and
+// between stems and berries, so the sum is the volume of the union of all parts.
+struct VolumeTerms {
+  double berries_union = 0;
+  double berries_sum = 0;  // no overlap removed, for reference
+  double stems = 0;
+  double junction_overlap = 0;
+  double pedicel_in_berry = 0;
+  double solid = 0;
+};
+
+struct GroundTruth {
+  VolumeTerms volume;      // m3
+  double density = 1.1;    // g/cm3
+  double mass = 0;         // g
+  int berry_count = 0;
+  // PCA frame (seed 000 Eq. 5, seed 002 Eq. 9): principal axes of the berries taken
+  // as solid balls (volume-weighted), columns sorted by decreasing variance, and the
+  // exact extents of the bunch without its peduncle along them. Seed 000 calls the
+  // extent along the first axis height, the second length and the third width.
+  Vec3 pca_centre = Vec3::Zero();
+  Eigen::Matrix3d pca_axes = Eigen::Matrix3d::Identity();
+  Vec3 pca_extent = Vec3::Zero();  // m: major, middle, minor
+  // Hanging frame (seed 001): height along the vertical of the bunch without its
+  // peduncle; from the cutting point down to the lowest point; maximum diameter
+  // about the vertical axis through the cutting point.
+  double height = 0;
+  double height_from_cutting_point = 0;
+  double max_diameter = 0;
+  // Envelope: convex hull of the solid, bracketed by an inscribed and a
+  // circumscribed polytope; the value is their midpoint.
+  double envelope_volume = 0;
+  double envelope_lower = 0;
+  double envelope_upper = 0;
+  double compactness = 0;  // solid / envelope
+  Vec3 cutting_point = Vec3::Zero();
+  Vec3 peduncle_direction = Vec3::UnitZ();
+  Vec3 bbox_min = Vec3::Zero(), bbox_max = Vec3::Zero();  // whole solid, m
+};
+
+VolumeTerms solid_volume_terms(const Bunch& bunch);
+GroundTruth compute_ground_truth(const Bunch& bunch, double density_g_cm3);
+
+// Convex hull volume of points (CGAL); min_facet_distance, when given, receives the
+// smallest distance from `origin` to a hull facet plane. Throws InputError for fewer
+// than 4 points or a flat set.
+double convex_hull_volume(const std::vector<Vec3>& points, double* min_facet_distance = nullptr,
+                          const Vec3& origin = Vec3::Zero());
+// Facet planes (n·x <= d, n unit outward) of the convex hull of points.
+std::vector<Eigen::Vector4d> convex_hull_planes(const std::vector<Vec3>& points);
+
+// Lower and upper bounds of the convex hull volume of the bunch's solid.
+void envelope_bounds(const Bunch& bunch, double& lower, double& upper);
+
+}  // namespace grapebench

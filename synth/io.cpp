@@ -1,0 +1,109 @@
+#include "synth/io.h"
+
+#include "synth/config.h"
+
+#include <fstream>
+#include <unistd.h>
+
+namespace grapebench {
+
+void write_file_atomic(const std::filesystem::path& path, std::string_view bytes) {
+  const auto tmp = path.string() + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path.string() + ": cannot open for writing");
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      std::filesystem::remove(tmp);
+      throw InputError(path.string() + ": write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp);
+    throw InputError(path.string() + ": cannot move into place: " + ec.message());
+  }
+}
+
+namespace {
+nlohmann::json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json rgb(const Rgb& c) { return {c.r, c.g, c.b}; }
+}  // namespace
+
+nlohmann::ordered_json params_json(const BunchParams& p) {
+  nlohmann::ordered_json j;
+  for (const auto& s : bunch_param_specs()) {
+    const std::string key(s.key);
+    switch (s.kind) {
+      case ParamSpec::Kind::Real: j[key] = p.*s.real; break;
+      case ParamSpec::Kind::Int: j[key] = p.*s.integer; break;
+      case ParamSpec::Kind::Rgb: j[key] = rgb(p.*s.rgb); break;
+    }
+  }
+  return j;
+}
+
+nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g,
+                                         const BunchRecord& r) {
+  nlohmann::ordered_json j;
+  j["format"] = "grapebench-ground-truth/1";
+  j["units"] = {{"length", "m"}, {"volume", "m3 (and cm3 where named)"}, {"mass", "g"},
+                {"frame", "world, z up; the rachis top at the origin"}};
+  j["preset"] = r.preset;
+  j["index"] = r.index;
+  j["seed"] = r.seed;
+  j["parameters"] = params_json(r.params);
+  j["generation"] = {{"berries_requested", r.report.berries_requested},
+                     {"berries_removed_by_packing", r.report.berries_removed},
+                     {"rachis_length_m", r.report.rachis_length},
+                     {"lateral_branches", r.report.branches}};
+  j["solid_volume_m3"] = g.volume.solid;
+  j["solid_volume_cm3"] = g.volume.solid * 1e6;
+  j["volume_terms_m3"] = {{"berries_union", g.volume.berries_union},
+                          {"berries_sum", g.volume.berries_sum},
+                          {"stems", g.volume.stems},
+                          {"junction_overlap", g.volume.junction_overlap},
+                          {"pedicel_in_berry", g.volume.pedicel_in_berry},
+                          {"formula", "berries_union + stems - junction_overlap - pedicel_in_berry"}};
+  j["density_g_cm3"] = g.density;
+  j["mass_g"] = g.mass;
+  j["berry_count"] = g.berry_count;
+  j["pca_frame"] = {{"definition", "principal axes of the berries as solid balls; extents of the bunch without peduncle"},
+                    {"centre_m", vec(g.pca_centre)},
+                    {"axes", {vec(g.pca_axes.col(0)), vec(g.pca_axes.col(1)), vec(g.pca_axes.col(2))}},
+                    {"extent_m", vec(g.pca_extent)},
+                    {"height_m", g.pca_extent[0]},
+                    {"length_m", g.pca_extent[1]},
+                    {"width_m", g.pca_extent[2]}};
+  j["hanging_frame"] = {{"height_m", g.height},
+                        {"height_from_cutting_point_m", g.height_from_cutting_point},
+                        {"max_diameter_m", g.max_diameter}};
+  j["envelope"] = {{"definition", "convex hull of the solid"},
+                   {"volume_m3", g.envelope_volume},
+                   {"lower_bound_m3", g.envelope_lower},
+                   {"upper_bound_m3", g.envelope_upper}};
+  j["compactness"] = g.compactness;
+  j["cutting_point_m"] = vec(g.cutting_point);
+  j["peduncle_direction"] = vec(g.peduncle_direction);
+  j["bbox_m"] = {{"min", vec(g.bbox_min)}, {"max", vec(g.bbox_max)}};
+  nlohmann::ordered_json berries = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < b.berries.size(); ++i) {
+    const auto& x = b.berries[i];
+    berries.push_back({{"id", i}, {"centre_m", vec(x.centre)}, {"radius_m", x.radius},
+                       {"colour", rgb(x.colour)}, {"pedicel", x.pedicel}});
+  }
+  j["berries"] = berries;
+  nlohmann::ordered_json stems = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < b.stems.size(); ++i) {
+    const auto& s = b.stems[i];
+    stems.push_back({{"id", i}, {"part", part_name(s.part)}, {"start_m", vec(s.start)},
+                     {"end_m", vec(s.end)}, {"radius_m", s.radius}, {"parent", s.parent},
+                     {"stacked_on", s.stacked_on}, {"berry", s.berry}});
+  }
+  j["stems"] = stems;
+  return j;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,244 @@
+#include "synth/params.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace grapebench {
+
+namespace {
+
+using K = ParamSpec::Kind;
+using P = BunchParams;
+
+ParamSpec real(std::string_view key, std::string_view unit, double lo, double hi,
+               double P::*field, std::string_view doc) {
+  return {key, unit, lo, hi, doc, K::Real, field, nullptr, nullptr};
+}
+ParamSpec integer(std::string_view key, double lo, double hi, int P::*field,
+                  std::string_view doc) {
+  return {key, "count", lo, hi, doc, K::Int, nullptr, field, nullptr};
+}
+ParamSpec colour(std::string_view key, Rgb P::*field, std::string_view doc) {
+  return {key, "rgb 0..1", 0, 1, doc, K::Rgb, nullptr, nullptr, field};
+}
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+const std::vector<ParamSpec>& bunch_param_specs() {
+  static const std::vector<ParamSpec> specs = {
+      integer("berry_count_min", 1, 1000, &P::berry_count_min,
+              "fewest berries drawn for a bunch (uniform in [min, max])"),
+      integer("berry_count_max", 1, 1000, &P::berry_count_max, "most berries drawn for a bunch"),
+      real("berry_radius_mean", "m", 0.002, 0.02, &P::berry_radius_mean,
+           "mean berry radius (normal draw)"),
+      real("berry_radius_sd", "m", 0, 0.005, &P::berry_radius_sd, "berry radius standard deviation"),
+      real("berry_radius_min", "m", 0.002, 0.02, &P::berry_radius_min, "berry radii clamped below"),
+      real("berry_radius_max", "m", 0.002, 0.02, &P::berry_radius_max, "berry radii clamped above"),
+      real("compactness", "-", 0, 1, &P::compactness,
+           "0 loose (berries hang free) .. 1 compact (pulled to the axis and pressed)"),
+      real("max_press_depth", "-", 0, 0.3, &P::max_press_depth,
+           "largest overlap depth of two pressed berries over the smaller radius, at compactness 1"),
+      real("rachis_length_min", "m", 0.03, 0.4, &P::rachis_length_min,
+           "shortest main rachis (uniform in [min, max])"),
+      real("rachis_length_max", "m", 0.03, 0.4, &P::rachis_length_max, "longest main rachis"),
+      real("rachis_radius_top", "m", 0.0005, 0.008, &P::rachis_radius_top,
+           "rachis radius at the top (tapers linearly)"),
+      real("rachis_radius_bottom", "m", 0.0003, 0.008, &P::rachis_radius_bottom,
+           "rachis radius at the tip"),
+      real("rachis_bare_length", "m", 0.005, 0.15, &P::rachis_bare_length,
+           "top part of the rachis without branches"),
+      real("branch_spacing", "m", 0.003, 0.05, &P::branch_spacing,
+           "distance between lateral branches along the rachis"),
+      real("branch_length_top", "m", 0.002, 0.2, &P::branch_length_top,
+           "length of the top lateral branch (shoulder)"),
+      real("branch_length_bottom", "m", 0.002, 0.2, &P::branch_length_bottom,
+           "length of the lowest lateral branch (linear in between)"),
+      real("branch_angle", "deg", 15, 85, &P::branch_angle,
+           "angle of the lateral branches from the downward rachis axis"),
+      real("branch_radius", "m", 0.0002, 0.005, &P::branch_radius, "lateral branch radius"),
+      real("pedicel_length_mean", "m", 0.001, 0.03, &P::pedicel_length_mean,
+           "mean pedicel length outside the berry"),
+      real("pedicel_length_sd", "m", 0, 0.01, &P::pedicel_length_sd, "pedicel length sd"),
+      real("pedicel_radius", "m", 0.0001, 0.003, &P::pedicel_radius, "pedicel radius"),
+      real("pedicel_stretch", "-", 1, 5, &P::pedicel_stretch,
+           "a crowded berry's pedicel may lengthen up to this factor of its drawn length"),
+      real("peduncle_length", "m", 0.005, 0.15, &P::peduncle_length,
+           "peduncle length from the rachis top to the cane"),
+      real("peduncle_radius", "m", 0.0005, 0.01, &P::peduncle_radius, "peduncle radius"),
+      real("peduncle_angle", "deg", 0, 75, &P::peduncle_angle,
+           "peduncle angle from vertical (random azimuth)"),
+      real("cutting_point_fraction", "-", 0.05, 0.95, &P::cutting_point_fraction,
+           "cutting point along the peduncle from the bunch top (seed 001)"),
+      colour("berry_colour", &P::berry_colour, "mean berry colour"),
+      real("colour_variation", "-", 0, 0.3, &P::colour_variation,
+           "sd of the per-berry colour jitter"),
+      colour("stem_colour", &P::stem_colour, "colour of peduncle, rachis and pedicels"),
+      real("density", "g/cm3", 0.5, 2, &P::density, "bunch density for the mass"),
+      integer("relax_iterations", 0, 5000, &P::relax_iterations,
+              "packing relaxation steps (0 = berries where first placed)"),
+  };
+  return specs;
+}
+
+std::string format_param(const BunchParams& p, const ParamSpec& spec) {
+  switch (spec.kind) {
+    case K::Real:
+      return num(p.*spec.real);
+    case K::Int:
+      return std::to_string(p.*spec.integer);
+    case K::Rgb: {
+      const Rgb& c = p.*spec.rgb;
+      return "[" + num(c.r) + ", " + num(c.g) + ", " + num(c.b) + "]";
+    }
+  }
+  return {};
+}
+
+const std::vector<std::string>& preset_names() {
+  static const std::vector<std::string> names = {"table-red", "wine-red", "summer-black",
+                                                 "green-table"};
+  return names;
+}
+
+BunchParams preset(const std::string& name) {
+  BunchParams p;  // table-red: Red Globe-like, seed 000 (583-863 cm3)
+  if (name == "table-red") return p;
+  if (name == "wine-red") {
+    // Wine grapes: berries 12-16 mm across, 60-150 per bunch, compact.
+    p.berry_count_min = 60;
+    p.berry_count_max = 150;
+    p.berry_radius_mean = 0.007;
+    p.berry_radius_sd = 0.0005;
+    p.berry_radius_min = 0.006;
+    p.berry_radius_max = 0.008;
+    p.compactness = 0.8;
+    p.max_press_depth = 0.15;
+    p.rachis_length_min = 0.09;
+    p.rachis_length_max = 0.17;
+    p.rachis_radius_top = 0.002;
+    p.rachis_radius_bottom = 0.001;
+    p.rachis_bare_length = 0.015;
+    p.branch_spacing = 0.008;
+    p.branch_length_top = 0.045;
+    p.branch_length_bottom = 0.010;
+    p.branch_radius = 0.0008;
+    p.pedicel_length_mean = 0.005;
+    p.pedicel_length_sd = 0.001;
+    p.pedicel_radius = 0.0005;
+    p.peduncle_length = 0.03;
+    p.peduncle_radius = 0.0025;
+    p.berry_colour = {0.10f, 0.04f, 0.14f};
+    p.colour_variation = 0.05;
+    return p;
+  }
+  if (name == "summer-black") {
+    // Summer Black: large near-black berries (20-24 mm), loose to medium bunches.
+    p.berry_count_min = 60;
+    p.berry_count_max = 100;
+    p.berry_radius_mean = 0.0105;
+    p.berry_radius_sd = 0.0007;
+    p.berry_radius_min = 0.009;
+    p.berry_radius_max = 0.012;
+    p.compactness = 0.5;
+    p.rachis_length_min = 0.15;
+    p.rachis_length_max = 0.21;
+    p.branch_length_top = 0.08;
+    p.berry_colour = {0.07f, 0.04f, 0.09f};
+    p.colour_variation = 0.04;
+    return p;
+  }
+  if (name == "green-table") {
+    // Green table grape (Italia / Thompson-like): 16-20 mm berries, 80-140 per bunch.
+    p.berry_count_min = 80;
+    p.berry_count_max = 140;
+    p.berry_radius_mean = 0.009;
+    p.berry_radius_sd = 0.0006;
+    p.berry_radius_min = 0.0078;
+    p.berry_radius_max = 0.0102;
+    p.compactness = 0.5;
+    p.rachis_length_min = 0.16;
+    p.rachis_length_max = 0.24;
+    p.branch_length_top = 0.075;
+    p.pedicel_length_mean = 0.009;
+    p.berry_colour = {0.55f, 0.68f, 0.28f};
+    p.colour_variation = 0.06;
+    return p;
+  }
+  std::string list;
+  for (const auto& n : preset_names()) list += (list.empty() ? "" : ", ") + n;
+  throw InputError("unknown preset '" + name + "'; allowed: " + list);
+}
+
+void read_bunch_params(const ConfigNode& node, BunchParams& p) {
+  for (const auto& s : bunch_param_specs()) {
+    const std::string key(s.key);
+    if (!node.has(key)) continue;
+    switch (s.kind) {
+      case K::Real:
+        p.*s.real = node.get_real(key, p.*s.real, s.lo, s.hi);
+        break;
+      case K::Int:
+        p.*s.integer = static_cast<int>(node.get_int(key, p.*s.integer,
+                                                     static_cast<std::int64_t>(s.lo),
+                                                     static_cast<std::int64_t>(s.hi)));
+        break;
+      case K::Rgb: {
+        const auto v = node.get_real_list(key, 3, s.lo, s.hi);
+        p.*s.rgb = {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+        break;
+      }
+    }
+  }
+  validate_bunch_params(p, node.where());
+}
+
+void validate_bunch_params(const BunchParams& p, const std::string& where) {
+  auto need = [&](bool ok, const std::string& msg) {
+    if (!ok) throw InputError(where + ": " + msg);
+  };
+  for (const auto& s : bunch_param_specs()) {
+    double v = 0;
+    if (s.kind == K::Real) v = p.*s.real;
+    else if (s.kind == K::Int) v = p.*s.integer;
+    else continue;
+    need(std::isfinite(v) && v >= s.lo && v <= s.hi,
+         "'" + std::string(s.key) + "' = " + num(v) + " is outside the allowed range [" +
+             num(s.lo) + ", " + num(s.hi) + "]");
+  }
+  need(p.berry_count_min <= p.berry_count_max,
+       "berry_count_min must not exceed berry_count_max");
+  need(p.berry_radius_min <= p.berry_radius_max,
+       "berry_radius_min must not exceed berry_radius_max");
+  need(p.rachis_length_min <= p.rachis_length_max,
+       "rachis_length_min must not exceed rachis_length_max");
+  need(p.rachis_radius_bottom <= p.rachis_radius_top,
+       "rachis_radius_bottom must not exceed rachis_radius_top");
+  need(p.rachis_radius_top < p.peduncle_radius,
+       "rachis_radius_top must be below peduncle_radius (the rachis starts inside the peduncle)");
+  need(p.branch_radius < p.rachis_radius_bottom,
+       "branch_radius must be below rachis_radius_bottom (branches start inside the rachis)");
+  need(p.pedicel_radius < p.branch_radius,
+       "pedicel_radius must be below branch_radius (pedicels start inside their branch)");
+  need(p.pedicel_radius < 0.4 * p.berry_radius_min,
+       "pedicel_radius must be below 0.4 * berry_radius_min (a pedicel enters one berry only)");
+  need(p.rachis_bare_length + p.branch_spacing < p.rachis_length_min,
+       "rachis_bare_length + branch_spacing must be below rachis_length_min");
+  need(p.peduncle_length > 2 * p.peduncle_radius,
+       "peduncle_length must exceed twice peduncle_radius");
+}
+
+void set_bunch_param(BunchParams& p, const std::string& key, const std::string& value) {
+  const auto node = ConfigNode::load_string(key + ": " + value, "--set " + key);
+  bool known = false;
+  for (const auto& s : bunch_param_specs()) known = known || s.key == key;
+  if (!known) throw InputError("--set: unknown parameter '" + key + "' (see grapebench synth --help)");
+  read_bunch_params(node, p);
+}
+
+}  // namespace grapebench

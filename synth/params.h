@@ -1,0 +1,86 @@
+// Parameters of the bunch generator and the variety presets. One table
+// (bunch_param_specs) documents every parameter with unit, range and meaning; it
+// drives the scene-file reader, `grapebench synth --help` and the JSON manifest,
+// so the three can never disagree.
+#pragma once
+
+#include "synth/config.h"
+#include "synth/types.h"
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace grapebench {
+
+// Defaults are the table-red preset (seed 000's red table grapes). Lengths in metres.
+struct BunchParams {
+  // Berries. Seed 000: 16 red table-grape bunches of 583-863 cm3 true volume.
+  int berry_count_min = 95;
+  int berry_count_max = 135;
+  double berry_radius_mean = 0.0115;  // m
+  double berry_radius_sd = 0.0008;    // m
+  double berry_radius_min = 0.0095;   // m, draws are clamped to [min, max]
+  double berry_radius_max = 0.0135;   // m
+  double compactness = 0.6;           // 0 loose .. 1 compact
+  double max_press_depth = 0.12;      // overlap depth / smaller radius, at compactness 1
+  // Rachis: a straight tapering main axis hanging from the peduncle.
+  double rachis_length_min = 0.17;  // m
+  double rachis_length_max = 0.23;  // m
+  double rachis_radius_top = 0.0028;     // m
+  double rachis_radius_bottom = 0.0013;  // m
+  double rachis_bare_length = 0.025;     // m, top part without branches
+  // Lateral branches (shoulders at the top), shorter down the bunch.
+  double branch_spacing = 0.014;        // m along the rachis
+  double branch_length_top = 0.085;     // m
+  double branch_length_bottom = 0.015;  // m
+  double branch_angle = 55;             // deg from the downward rachis axis
+  double branch_radius = 0.0011;        // m
+  // Pedicels.
+  double pedicel_length_mean = 0.010;  // m, outside the berry
+  double pedicel_length_sd = 0.002;    // m
+  double pedicel_radius = 0.0008;      // m
+  double pedicel_stretch = 2.5;        // longest pedicel / its drawn length, when packing needs room
+  // Peduncle, from the rachis top up to the cane.
+  double peduncle_length = 0.045;          // m
+  double peduncle_radius = 0.0035;         // m
+  double peduncle_angle = 20;              // deg from vertical
+  double cutting_point_fraction = 0.5;     // along the peduncle from the bunch top
+  // Appearance and mass.
+  Rgb berry_colour{0.45f, 0.06f, 0.10f};
+  double colour_variation = 0.08;  // sd of per-berry colour jitter
+  Rgb stem_colour{0.42f, 0.45f, 0.18f};
+  double density = 1.1;  // g/cm3
+  // Packing relaxation.
+  int relax_iterations = 150;
+};
+
+struct ParamSpec {
+  enum class Kind { Real, Int, Rgb };
+  std::string_view key;
+  std::string_view unit;
+  double lo, hi;
+  std::string_view doc;
+  Kind kind;
+  double BunchParams::*real = nullptr;
+  int BunchParams::*integer = nullptr;
+  Rgb BunchParams::*rgb = nullptr;
+};
+
+const std::vector<ParamSpec>& bunch_param_specs();
+// The value of one parameter as text ("0.0115", "[0.45, 0.06, 0.1]").
+std::string format_param(const BunchParams& p, const ParamSpec& spec);
+
+const std::vector<std::string>& preset_names();
+// Throws InputError naming the allowed presets.
+BunchParams preset(const std::string& name);
+
+// Reads overrides of any parameter from `node` (keys as in the spec table); range
+// errors name file:line and key. Then checks the cross-field rules.
+void read_bunch_params(const ConfigNode& node, BunchParams& p);
+// Cross-field rules (radius ordering, min <= max...); `where` prefixes messages.
+void validate_bunch_params(const BunchParams& p, const std::string& where);
+// Sets one parameter from text ("key=value" on the command line).
+void set_bunch_param(BunchParams& p, const std::string& key, const std::string& value);
+
+}  // namespace grapebench

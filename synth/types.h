@@ -1,0 +1,59 @@
+// Core geometric types of a synthetic grape bunch. All lengths in metres, world
+// frame z up; the bunch hangs along -z from the top of its rachis at the origin.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+namespace grapebench {
+
+using Vec3 = Eigen::Vector3d;
+
+// Ground-truth label of a surface or point. Values are stable: they are written to
+// PLY/OBJ/PCD files and scene outputs.
+enum class Part : std::uint8_t { Berry = 0, Pedicel = 1, Rachis = 2, Peduncle = 3 };
+inline constexpr std::array<Part, 4> kAllParts{Part::Berry, Part::Pedicel, Part::Rachis,
+                                               Part::Peduncle};
+std::string_view part_name(Part p);
+
+struct Rgb {
+  float r = 0, g = 0, b = 0;  // linear 0..1
+};
+
+struct Berry {
+  Vec3 centre = Vec3::Zero();  // m
+  double radius = 0;           // m
+  Rgb colour;
+  int pedicel = -1;  // index into Bunch::stems of the pedicel carrying this berry
+};
+
+// A straight cylinder from `start` to `end` with flat ends. A stem with a parent
+// starts on the parent's axis, strictly inside the parent (the generator guarantees
+// it), so the union's volume only needs the pairwise parent/child overlap.
+struct Stem {
+  Vec3 start = Vec3::Zero();  // m
+  Vec3 end = Vec3::Zero();    // m
+  double radius = 0;          // m
+  Part part = Part::Rachis;
+  int parent = -1;  // index into Bunch::stems; -1 for none
+  int berry = -1;   // pedicels: the berry it carries (it ends inside that berry)
+  // Rachis segments are stacked coaxially: a segment whose `stacked_on` is set
+  // starts exactly on the end face of that segment (no overlap, no parent).
+  int stacked_on = -1;
+};
+
+struct Bunch {
+  std::vector<Berry> berries;
+  std::vector<Stem> stems;
+  Vec3 top = Vec3::Zero();                       // rachis top, on the peduncle axis
+  Vec3 peduncle_direction = Vec3::UnitZ();       // unit, from the bunch up to the cane
+  Vec3 cutting_point = Vec3::Zero();             // on the peduncle axis (seed 001)
+  int peduncle = -1;                             // index of the peduncle stem
+};
+
+}  // namespace grapebench

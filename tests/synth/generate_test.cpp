@@ -1,0 +1,87 @@
+#include "synth/generate.h"
+
+#include "synth/ground_truth.h"
+#include "synth/io.h"
+#include "synth/mesh.h"
+#include "synth/params.h"
+
+#include <gtest/gtest.h>
+
+namespace grapebench {
+namespace {
+
+class EveryPreset : public ::testing::TestWithParam<std::string> {};
+
+// The generator's guarantee that the volume formula accounts for every contact.
+TEST_P(EveryPreset, ContactsAreOnlyThoseTheFormulaAccountsFor) {
+  for (double c : {0.0, 0.5, 1.0}) {
+    BunchParams p = preset(GetParam());
+    p.compactness = c;
+    for (std::uint64_t seed = 0; seed < 4; ++seed) {
+      const Bunch b = generate_bunch(p, seed);
+      const auto problems = check_bunch(b);
+      EXPECT_TRUE(problems.empty()) << GetParam() << " seed " << seed << ": " << problems.front();
+      EXPECT_LE(max_press_ratio(b), c * p.max_press_depth * (1 + 1e-6) + 1e-9);
+      EXPECT_GE(static_cast<int>(b.berries.size()), 1);
+    }
+  }
+}
+
+TEST_P(EveryPreset, SameSeedSameBytesDifferentSeedDifferentBunch) {
+  const BunchParams p = preset(GetParam());
+  auto render = [&](std::uint64_t seed) {
+    const Bunch b = generate_bunch(p, seed);
+    const GroundTruth g = compute_ground_truth(b, p.density);
+    const BunchRecord rec{GetParam(), seed, 0, p, {}};
+    return ground_truth_json(b, g, rec).dump() + ply_bytes(bunch_mesh(b));
+  };
+  EXPECT_EQ(render(7), render(7));
+  EXPECT_NE(render(7), render(8));
+}
+
+INSTANTIATE_TEST_SUITE_P(Presets, EveryPreset, ::testing::ValuesIn(preset_names()),
+                         [](const auto& param_info) {
+                           std::string n = param_info.param;
+                           for (auto& c : n) c = c == '-' ? '_' : c;
+                           return n;
+                         });
+
+TEST(CheckBunch, ReportsAStemThroughAForeignBerry) {
+  Bunch b = generate_bunch(preset("table-red"), 1);
+  ASSERT_TRUE(check_bunch(b).empty());
+  // Move one berry onto the rachis axis: it now touches a rachis segment.
+  b.berries[0].centre = Vec3(0, 0, -0.05);
+  EXPECT_FALSE(check_bunch(b).empty());
+}
+
+TEST(GroundTruth, DimensionsAndEnvelopeAreConsistent) {
+  const BunchParams p = preset("table-red");
+  const Bunch b = generate_bunch(p, 3);
+  const GroundTruth g = compute_ground_truth(b, p.density);
+  EXPECT_EQ(g.berry_count, static_cast<int>(b.berries.size()));
+  EXPECT_NEAR(g.mass, g.volume.solid * 1e6 * 1.1, 1e-9);
+  EXPECT_GE(g.pca_extent[0], g.pca_extent[1] * 0.8);  // first axis has the largest variance
+  EXPECT_LE(g.envelope_lower, g.envelope_upper);
+  // The bracket is within 0.2 %, so the midpoint is within 0.1 % of the hull volume.
+  EXPECT_LT((g.envelope_upper - g.envelope_lower) / g.envelope_volume, 0.002);
+  EXPECT_GT(g.compactness, 0.1);
+  EXPECT_LT(g.compactness, 1.0);
+  EXPECT_GT(g.height_from_cutting_point, g.height * 0.9);
+  EXPECT_NEAR((g.cutting_point - b.top).norm(), p.cutting_point_fraction * p.peduncle_length, 1e-12);
+}
+
+TEST(Params, OutOfRangeAndCrossFieldErrorsNameTheKey) {
+  BunchParams p = preset("wine-red");
+  p.pedicel_radius = p.branch_radius * 2;
+  try {
+    validate_bunch_params(p, "scene.yaml:3");
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pedicel_radius"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("scene.yaml:3"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(preset("concord"), InputError);
+}
+
+}  // namespace
+}  // namespace grapebench
