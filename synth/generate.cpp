@@ -71,7 +71,7 @@ Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport*
   const double q = p.berry_count_max > p.berry_count_min
                        ? static_cast<double>(requested - p.berry_count_min) / (p.berry_count_max - p.berry_count_min)
                        : 0.5;
-  const double size = std::clamp(q + rng.uniform(-0.25, 0.25), 0.0, 1.0);
+  const double size = std::clamp(q + rng.uniform(-0.1, 0.1), 0.0, 1.0);
   const double L = p.rachis_length_min + size * (p.rachis_length_max - p.rachis_length_min);
   const double branch_scale = 0.85 + 0.3 * size;
 
@@ -179,7 +179,7 @@ Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport*
     const Stem& carrier = bunch.stems[carriers[c].stem];
     const Vec3 axis = (carrier.end - carrier.start).normalized();
     for (int k = 0; k < count[c]; ++k) {
-      const double u = (k + 0.5 + rng.uniform(-0.3, 0.3)) / count[c];
+      const double u = (k + 0.5 + rng.uniform(-0.1, 0.1)) / count[c];
       const double t = carriers[c].t0 + u * (carriers[c].t1 - carriers[c].t0);
       Seedling s;
       s.carrier = carriers[c].stem;
@@ -327,8 +327,10 @@ Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport*
 
   const auto problems = check_bunch(bunch);
   if (!problems.empty()) {
-    throw InputError("bunch parameters give an invalid skeleton: " + problems.front() +
-                     " (try a larger branch_spacing or rachis_bare_length, or thinner stems)");
+    std::string msg = "bunch parameters give an invalid skeleton: ";
+    msg.append(problems.front());
+    msg.append(" (try a larger branch_spacing or rachis_bare_length, or thinner stems)");
+    throw InputError(msg);
   }
   if (report) {
     report->berries_requested = requested;

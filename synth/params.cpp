@@ -33,7 +33,7 @@ std::string num(double v) {
 const std::vector<ParamSpec>& bunch_param_specs() {
   static const std::vector<ParamSpec> specs = {
       integer("berry_count_min", 1, 1000, &P::berry_count_min,
-              "fewest berries drawn for a bunch (uniform in [min, max])"),
+              "fewest berries drawn for a bunch (uniform in [min, max]; packing may drop a few, reported in the JSON)"),
       integer("berry_count_max", 1, 1000, &P::berry_count_max, "most berries drawn for a bunch"),
       real("berry_radius_mean", "m", 0.002, 0.02, &P::berry_radius_mean,
            "mean berry radius (normal draw)"),

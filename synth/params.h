@@ -16,7 +16,7 @@ namespace grapebench {
 // Defaults are the table-red preset (seed 000's red table grapes). Lengths in metres.
 struct BunchParams {
   // Berries. Seed 000: 16 red table-grape bunches of 583-863 cm3 true volume.
-  int berry_count_min = 95;
+  int berry_count_min = 100;
   int berry_count_max = 135;
   double berry_radius_mean = 0.0115;  // m
   double berry_radius_sd = 0.0008;    // m
@@ -26,7 +26,7 @@ struct BunchParams {
   double max_press_depth = 0.12;      // overlap depth / smaller radius, at compactness 1
   // Rachis: a straight tapering main axis hanging from the peduncle.
   double rachis_length_min = 0.17;  // m
-  double rachis_length_max = 0.23;  // m
+  double rachis_length_max = 0.25;  // m
   double rachis_radius_top = 0.0028;     // m
   double rachis_radius_bottom = 0.0013;  // m
   double rachis_bare_length = 0.025;     // m, top part without branches
