@@ -30,6 +30,7 @@ struct Case {
   std::string preset;
   double compactness;
 };
+void PrintTo(const Case& c, std::ostream* os) { *os << c.preset << " compactness " << c.compactness; }
 
 class PresetVolume : public ::testing::TestWithParam<Case> {};
 
