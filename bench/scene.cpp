@@ -24,6 +24,10 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
     s.groups.push_back(std::move(g));
   }
   if (s.groups.empty()) root.fail("bunches", "the list is empty");
+  if (root.has("sensor")) s.sensor = make_sensor(root.child("sensor"));
+  if (root.has("rig")) s.rig = make_rig(root.child("rig"));
+  if (root.has("background")) s.background = read_background(root.child("background"));
+  if (s.rig && !s.sensor) root.fail("rig", "a rig needs a `sensor:` section");
   root.report_unused();
   return s;
 }

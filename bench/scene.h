@@ -1,9 +1,12 @@
 // Scene files: the strict YAML documents `grapebench` runs (see scenes/README.md).
 #pragma once
 
+#include "sensors/rig.h"
+#include "sensors/sensor.h"
 #include "synth/params.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,6 +23,11 @@ struct Scene {
   std::string name;
   std::uint64_t seed = 0;
   std::vector<BunchGroup> groups;
+  // Capture (optional sections `sensor`, `rig`, `background`); built while parsing so
+  // their errors name file:line before any work starts.
+  std::shared_ptr<const Sensor> sensor;
+  std::shared_ptr<const Rig> rig;
+  BackgroundSpec background;
 };
 
 // One bunch to generate: its own seed is derived from the scene seed and its index,

@@ -123,6 +123,17 @@ std::uint64_t ConfigNode::get_seed(const std::string& key, std::uint64_t fallbac
   }
 }
 
+bool ConfigNode::get_bool(const std::string& key, bool fallback) const {
+  if (!has(key)) return fallback;
+  const YAML::Node v = value(key);
+  if (v.IsScalar()) {
+    const std::string& x = v.Scalar();
+    if (x == "true" || x == "yes" || x == "on") return true;
+    if (x == "false" || x == "no" || x == "off") return false;
+  }
+  fail(key, "expected true or false");
+}
+
 std::string ConfigNode::get_string(const std::string& key, const std::string& fallback) const {
   if (!has(key)) return fallback;
   const YAML::Node v = value(key);
@@ -162,6 +173,16 @@ std::vector<double> ConfigNode::get_real_list(const std::string& key, std::size_
     out.push_back(x);
   }
   return out;
+}
+
+std::vector<double> ConfigNode::get_real_list_any(const std::string& key, std::size_t min_count,
+                                                  std::size_t max_count, double lo, double hi) const {
+  const YAML::Node v = value(key);
+  if (!v.IsSequence() || v.size() < min_count || v.size() > max_count) {
+    fail(key, "expected a list of " + std::to_string(min_count) + " to " + std::to_string(max_count) +
+                  " numbers in [" + fmt(lo) + ", " + fmt(hi) + "]");
+  }
+  return get_real_list(key, v.size(), lo, hi);
 }
 
 ConfigNode ConfigNode::child(const std::string& key) const {

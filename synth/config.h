@@ -36,11 +36,15 @@ class ConfigNode {
   std::int64_t get_int(const std::string& key, std::int64_t fallback, std::int64_t lo,
                        std::int64_t hi) const;
   std::uint64_t get_seed(const std::string& key, std::uint64_t fallback) const;
+  bool get_bool(const std::string& key, bool fallback) const;
   std::string get_string(const std::string& key, const std::string& fallback) const;
   std::string get_choice(const std::string& key, const std::string& fallback,
                          const std::vector<std::string>& allowed) const;
   std::vector<double> get_real_list(const std::string& key, std::size_t count, double lo,
                                     double hi) const;
+  // A list of between min_count and max_count numbers, each in [lo, hi].
+  std::vector<double> get_real_list_any(const std::string& key, std::size_t min_count, std::size_t max_count,
+                                        double lo, double hi) const;
   // A nested mapping (must be a mapping) or a sequence of mappings.
   ConfigNode child(const std::string& key) const;
   std::vector<ConfigNode> children(const std::string& key) const;

@@ -65,13 +65,14 @@ Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport*
   validate_bunch_params(p, "bunch parameters");
   Rng rng(seed);
   Bunch bunch;
+  bunch.stem_colour = p.stem_colour;
   // Bunches with more berries are bigger: the rachis length follows the berry count's
   // quantile (with noise) and the branches scale with it.
   const int requested = rng.uniform_int(p.berry_count_min, p.berry_count_max);
-  const double q = p.berry_count_max > p.berry_count_min
+  const double count_quantile = p.berry_count_max > p.berry_count_min
                        ? static_cast<double>(requested - p.berry_count_min) / (p.berry_count_max - p.berry_count_min)
                        : 0.5;
-  const double size = std::clamp(q + rng.uniform(-0.1, 0.1), 0.0, 1.0);
+  const double size = std::clamp(count_quantile + rng.uniform(-0.1, 0.1), 0.0, 1.0);
   const double L = p.rachis_length_min + size * (p.rachis_length_max - p.rachis_length_min);
   const double branch_scale = 0.85 + 0.3 * size;
 
@@ -416,6 +417,8 @@ std::string_view part_name(Part p) {
     case Part::Pedicel: return "pedicel";
     case Part::Rachis: return "rachis";
     case Part::Peduncle: return "peduncle";
+    case Part::Background: return "background";
+    case Part::None: return "none";
   }
   return "unknown";
 }

@@ -16,7 +16,14 @@ using Vec3 = Eigen::Vector3d;
 
 // Ground-truth label of a surface or point. Values are stable: they are written to
 // PLY/OBJ/PCD files and scene outputs.
-enum class Part : std::uint8_t { Berry = 0, Pedicel = 1, Rachis = 2, Peduncle = 3 };
+enum class Part : std::uint8_t {
+  Berry = 0,
+  Pedicel = 1,
+  Rachis = 2,
+  Peduncle = 3,
+  Background = 4,  // scene elements added by sensors/ (plane, plate)
+  None = 255,      // no return
+};
 inline constexpr std::array<Part, 4> kAllParts{Part::Berry, Part::Pedicel, Part::Rachis,
                                                Part::Peduncle};
 std::string_view part_name(Part p);
@@ -54,6 +61,7 @@ struct Bunch {
   Vec3 peduncle_direction = Vec3::UnitZ();       // unit, from the bunch up to the cane
   Vec3 cutting_point = Vec3::Zero();             // on the peduncle axis (seed 001)
   int peduncle = -1;                             // index of the peduncle stem
+  Rgb stem_colour{0.42f, 0.45f, 0.18f};          // peduncle, rachis and pedicels
 };
 
 }  // namespace grapebench

@@ -1,0 +1,38 @@
+// Pinhole cameras. Camera frame (OpenCV): x right, y down, z forward; pixel (u, v)
+// has its centre at (u + 0.5, v + 0.5).
+#pragma once
+
+#include "sensors/ray_scene.h"
+
+#include <Eigen/Geometry>
+
+namespace grapebench {
+
+struct Intrinsics {
+  int width = 0, height = 0;  // pixels
+  double fx = 0, fy = 0;      // pixels
+  double cx = 0, cy = 0;      // pixels
+};
+
+// Square pixels, principal point at the centre, from the horizontal field of view.
+Intrinsics intrinsics_from_hfov(int width, int height, double hfov_deg);
+// From the horizontal and vertical fields of view (non-square pixels allowed).
+Intrinsics intrinsics_from_fov(int width, int height, double hfov_deg, double vfov_deg);
+
+struct Camera {
+  Intrinsics K;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // camera to world
+
+  Vec3 centre() const { return pose.translation(); }
+  // World ray through image point (u, v) in pixels.
+  Ray ray(double u, double v) const;
+  Vec3 to_camera(const Vec3& world) const { return pose.inverse() * world; }
+  // Pixel rectangle [u0, u1) x [v0, v1) that contains the image of a ball; false when
+  // the ball is behind the camera or off the image.
+  bool ball_pixels(const Vec3& centre, double radius, int& u0, int& v0, int& u1, int& v1) const;
+};
+
+// Camera at `eye` looking at `target`; `up` fixes the roll (image up = -y).
+Eigen::Isometry3d look_at(const Vec3& eye, const Vec3& target, const Vec3& up = Vec3::UnitZ());
+
+}  // namespace grapebench

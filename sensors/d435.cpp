@@ -1,0 +1,132 @@
+#include "sensors/d435.h"
+
+#include "synth/rng.h"
+
+#include <atomic>
+#include <cmath>
+
+namespace grapebench {
+
+OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const {
+  const Camera cam{intrinsics(), pose};
+  const int W = cam.K.width, H = cam.K.height;
+  const double fB = cam.K.fx * p_.baseline;
+  const Vec3 right = pose * Vec3(p_.baseline, 0, 0);
+  const Vec3 projector = pose * Vec3(p_.projector_x, p_.projector_y, 0);
+  int bu0 = 0, bv0 = 0, bu1 = 0, bv1 = 0;
+  const bool bunch_visible =
+      scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), bu0, bv0, bu1, bv1);
+  const Vec3 bc = scene.bounds_centre();
+  const double br = scene.bounds_radius();
+  // Whether a segment can pass through the bunch at all (else nothing can block it).
+  auto may_block = [&](const Vec3& a, const Vec3& b) {
+    return scene.has_bunch() && point_segment_distance_sq(bc, a, b) <= br * br;
+  };
+  const Eigen::Matrix3d to_cam = pose.linear().transpose();
+  OrganisedCloud out;
+  out.resize(W, H);
+  std::atomic<std::uint64_t> rays_cast{0};
+
+  for_rows(H, [&](int r0, int r1) {
+    std::vector<Ray> rays;
+    std::vector<Hit> hits, part_hits;
+    std::vector<Vec3> from, to;
+    std::vector<std::size_t> who;
+    std::vector<char> blocked;
+    for (int v = r0; v < r1; ++v) {
+      rays.clear();
+      for (int u = 0; u < W; ++u) rays.push_back(cam.ray(u + 0.5, v + 0.5));
+      hits.assign(rays.size(), Hit{});
+      const bool row_sees_bunch = bunch_visible && v >= bv0 && v < bv1;
+      for (int u = 0; u < W; ++u) {
+        if (!(row_sees_bunch && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(rays[u]);
+      }
+      if (row_sees_bunch) {
+        std::vector<Ray> part(rays.begin() + bu0, rays.begin() + bu1);
+        scene.intersect(part, part_hits);
+        std::copy(part_hits.begin(), part_hits.end(), hits.begin() + bu0);
+        rays_cast += part.size();
+      }
+      // Occlusion shadows: the point must be seen by the right imager and lit by
+      // the projector; only segments that can cross the bunch are traced.
+      from.clear();
+      to.clear();
+      who.clear();
+      for (int u = 0; u < W; ++u) {
+        if (!hits[u].valid()) continue;
+        if (may_block(right, hits[u].point)) {
+          from.push_back(right);
+          to.push_back(hits[u].point);
+          who.push_back(u);
+        }
+        if (p_.require_projector && may_block(projector, hits[u].point)) {
+          from.push_back(projector);
+          to.push_back(hits[u].point);
+          who.push_back(u);
+        }
+      }
+      scene.occluded(from, to, blocked);
+      rays_cast += from.size();
+      std::vector<char> shadow(W, 0);
+      for (std::size_t k = 0; k < who.size(); ++k) shadow[who[k]] |= blocked[k];
+      for (int u = 0; u < W; ++u) {
+        const std::size_t idx = static_cast<std::size_t>(v) * W + u;
+        const Hit& h = hits[u];
+        if (!h.valid()) continue;
+        const Vec3 dir_cam = to_cam * rays[u].direction;
+        const double z = h.t * dir_cam.z();
+        out.true_depth[idx] = static_cast<float>(z);
+        out.label[idx] = static_cast<std::uint8_t>(h.part);
+        out.berry[idx] = h.berry;
+        if (shadow[u]) continue;
+        Rng rng(derive_seed(seed, idx));
+        double d = fB / z + p_.noise_scale * p_.subpixel_sd * rng.normal();
+        if (p_.disparity_step > 0) d = std::round(d / p_.disparity_step) * p_.disparity_step;
+        if (d <= 0 || d > p_.max_disparity) continue;  // nearer than MinZ, or no match
+        const double zd = fB / d;
+        if (zd > p_.max_range) continue;
+        out.xyz[idx] = (dir_cam * (zd / dir_cam.z())).cast<float>();
+        out.normal[idx] = (to_cam * h.normal).cast<float>();
+        out.rgb[idx] = shade(h.colour, h.normal, rays[u].direction);
+        out.valid[idx] = 1;
+      }
+    }
+  });
+  out.rays_cast = rays_cast;
+  return out;
+}
+
+nlohmann::ordered_json D435::describe() const {
+  return {{"type", type()},
+          {"width", p_.width},
+          {"height", p_.height},
+          {"hfov_deg", p_.hfov_deg},
+          {"baseline_m", p_.baseline},
+          {"subpixel_sd_px", p_.subpixel_sd},
+          {"disparity_step_px", p_.disparity_step},
+          {"max_disparity_px", p_.max_disparity},
+          {"min_z_m", min_z()},
+          {"max_range_m", p_.max_range},
+          {"projector_m", {p_.projector_x, p_.projector_y}},
+          {"require_projector", p_.require_projector},
+          {"noise_scale", p_.noise_scale}};
+}
+
+std::unique_ptr<Sensor> D435::create(const ConfigNode& n) {
+  D435Params p;
+  p.width = static_cast<int>(n.get_int("width", p.width, 16, 4096));
+  p.height = static_cast<int>(n.get_int("height", p.height, 16, 4096));
+  p.hfov_deg = n.get_real("hfov_deg", p.hfov_deg, 40, 120);
+  p.baseline = n.get_real("baseline", p.baseline, 0.01, 0.5);
+  p.subpixel_sd = n.get_real("subpixel_sd", p.subpixel_sd, 0, 2);
+  p.disparity_step = n.get_real("disparity_step", p.disparity_step, 0, 1);
+  p.max_disparity = n.get_real("max_disparity", p.max_disparity, 8, 1024);
+  p.max_range = n.get_real("max_range", p.max_range, 0.5, 65);
+  p.projector_x = n.get_real("projector_x", p.projector_x, -0.5, 0.5);
+  p.projector_y = n.get_real("projector_y", p.projector_y, -0.5, 0.5);
+  p.require_projector = n.get_bool("require_projector", p.require_projector);
+  p.noise_scale = n.get_real("noise_scale", p.noise_scale, 0, 20);
+  return std::make_unique<D435>(p);
+}
+
+}  // namespace grapebench

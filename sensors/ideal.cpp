@@ -1,0 +1,65 @@
+#include "sensors/ideal.h"
+
+#include <atomic>
+
+namespace grapebench {
+
+OrganisedCloud IdealSensor::capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t) const {
+  const Camera cam{intrinsics(), pose};
+  const int W = cam.K.width, H = cam.K.height;
+  int bu0 = 0, bv0 = 0, bu1 = 0, bv1 = 0;
+  const bool bunch_visible =
+      scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), bu0, bv0, bu1, bv1);
+  const Eigen::Matrix3d to_cam = pose.linear().transpose();
+  OrganisedCloud out;
+  out.resize(W, H);
+  std::atomic<std::uint64_t> rays_cast{0};
+  for_rows(H, [&](int r0, int r1) {
+    std::vector<Ray> rays;
+    std::vector<Hit> hits, part_hits;
+    for (int v = r0; v < r1; ++v) {
+      rays.clear();
+      for (int u = 0; u < W; ++u) rays.push_back(cam.ray(u + 0.5, v + 0.5));
+      hits.assign(rays.size(), Hit{});
+      const bool row = bunch_visible && v >= bv0 && v < bv1;
+      for (int u = 0; u < W; ++u) {
+        if (!(row && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(rays[u]);
+      }
+      if (row) {
+        std::vector<Ray> part(rays.begin() + bu0, rays.begin() + bu1);
+        scene.intersect(part, part_hits);
+        std::copy(part_hits.begin(), part_hits.end(), hits.begin() + bu0);
+        rays_cast += part.size();
+      }
+      for (int u = 0; u < W; ++u) {
+        const Hit& h = hits[u];
+        if (!h.valid()) continue;
+        const std::size_t idx = static_cast<std::size_t>(v) * W + u;
+        const Vec3 pc = to_cam * (h.point - pose.translation());
+        out.xyz[idx] = pc.cast<float>();
+        out.normal[idx] = (to_cam * h.normal).cast<float>();
+        out.rgb[idx] = shade(h.colour, h.normal, rays[u].direction);
+        out.label[idx] = static_cast<std::uint8_t>(h.part);
+        out.berry[idx] = h.berry;
+        out.valid[idx] = 1;
+        out.true_depth[idx] = static_cast<float>(pc.z());
+      }
+    }
+  });
+  out.rays_cast = rays_cast;
+  return out;
+}
+
+nlohmann::ordered_json IdealSensor::describe() const {
+  return {{"type", type()}, {"width", p_.width}, {"height", p_.height}, {"hfov_deg", p_.hfov_deg}};
+}
+
+std::unique_ptr<Sensor> IdealSensor::create(const ConfigNode& n) {
+  IdealParams p;
+  p.width = static_cast<int>(n.get_int("width", p.width, 16, 4096));
+  p.height = static_cast<int>(n.get_int("height", p.height, 16, 4096));
+  p.hfov_deg = n.get_real("hfov_deg", p.hfov_deg, 10, 150);
+  return std::make_unique<IdealSensor>(p);
+}
+
+}  // namespace grapebench

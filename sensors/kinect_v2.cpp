@@ -1,0 +1,192 @@
+#include "sensors/kinect_v2.h"
+
+#include "synth/rng.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <complex>
+
+namespace grapebench {
+
+Intrinsics KinectV2::intrinsics() const {
+  return intrinsics_from_fov(p_.width, p_.height, p_.hfov_deg, p_.vfov_deg);
+}
+
+double KinectV2::axial_sigma(double z, double theta) const {
+  const double t = std::min(theta, 0.5 * M_PI - 1e-3);
+  const double mm = p_.axial_a0 + p_.axial_a1 * z + p_.axial_a2 * z * z +
+                    p_.axial_a3 * std::pow(z, 1.5) * t * t / std::pow(0.5 * M_PI - t, 2);
+  return std::max(0.0, mm) * 1e-3;
+}
+
+OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const {
+  const Camera cam{intrinsics(), pose};
+  const int W = cam.K.width, H = cam.K.height, n = p_.supersampling;
+  const double lateral = p_.lateral_sd_px * p_.noise_scale;
+  const double c = 299792458.0, k_phase = 4 * M_PI * p_.modulation_mhz * 1e6 / c;
+  const double max_incidence = p_.max_incidence_deg * M_PI / 180;
+  int bu0 = 0, bv0 = 0, bu1 = 0, bv1 = 0;
+  const bool bunch_visible =
+      scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), bu0, bv0, bu1, bv1);
+  const int margin = static_cast<int>(std::ceil(6 * lateral)) + 1;  // jitter can reach in
+  bu0 = std::max(0, bu0 - margin);
+  bv0 = std::max(0, bv0 - margin);
+  bu1 = std::min(W, bu1 + margin);
+  bv1 = std::min(H, bv1 + margin);
+
+  OrganisedCloud out;
+  out.resize(W, H);
+  std::vector<float> depth(out.size(), 0.0f);  // raw depth of every return, 0 for none
+  std::atomic<std::uint64_t> rays_cast{0};
+  const Eigen::Matrix3d to_cam = pose.linear().transpose();
+
+  for_rows(H, [&](int r0, int r1) {
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    std::vector<double> jitter;  // per pixel: du, dv, axial normal draw
+    for (int v = r0; v < r1; ++v) {
+      rays.clear();
+      jitter.clear();
+      for (int u = 0; u < W; ++u) {
+        Rng rng(derive_seed(seed, static_cast<std::uint64_t>(v) * W + u));
+        const double du = lateral * rng.normal(), dv = lateral * rng.normal();
+        jitter.insert(jitter.end(), {du, dv, rng.normal()});
+        for (int a = 0; a < n; ++a) {
+          for (int b = 0; b < n; ++b) rays.push_back(cam.ray(u + (b + 0.5) / n + du, v + (a + 0.5) / n + dv));
+        }
+      }
+      // Embree only for the pixels that can see the bunch; the plane is analytic.
+      hits.assign(rays.size(), Hit{});
+      if (bunch_visible && v >= bv0 && v < bv1) {
+        const std::size_t first = static_cast<std::size_t>(bu0) * n * n, last = static_cast<std::size_t>(bu1) * n * n;
+        std::vector<Ray> part(rays.begin() + first, rays.begin() + last);
+        std::vector<Hit> part_hits;
+        scene.intersect(part, part_hits);
+        std::copy(part_hits.begin(), part_hits.end(), hits.begin() + first);
+        rays_cast += part.size();
+        for (std::size_t i = 0; i < first; ++i) hits[i] = scene.background_hit(rays[i]);
+        for (std::size_t i = last; i < rays.size(); ++i) hits[i] = scene.background_hit(rays[i]);
+      } else {
+        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = scene.background_hit(rays[i]);
+      }
+      for (int u = 0; u < W; ++u) {
+        const std::size_t idx = static_cast<std::size_t>(v) * W + u;
+        const Hit* sub = &hits[static_cast<std::size_t>(u) * n * n];
+        const Ray* sray = &rays[static_cast<std::size_t>(u) * n * n];
+        // ToF pixel: sum of the returns' phasors, amplitude albedo cos(theta) / r^2.
+        int dominant = -1, returns = 0;
+        double wmax = 0;
+        double w[64] = {};  // n <= 8
+        for (int s = 0; s < n * n; ++s) {
+          if (!sub[s].valid()) continue;
+          ++returns;
+          const double cos_t = std::max(0.0, -sub[s].normal.dot(sray[s].direction));
+          const double albedo = sub[s].part == Part::Background && scene.background() ? scene.background()->albedo : 0.6;
+          w[s] = albedo * cos_t / (sub[s].t * sub[s].t);
+          if (w[s] > wmax) {
+            wmax = w[s];
+            dominant = s;
+          }
+        }
+        if (dominant < 0 || static_cast<double>(returns) / (n * n) < p_.min_amplitude) continue;
+        const Hit& dom = sub[dominant];
+        std::complex<double> sum = 0;
+        for (int s = 0; s < n * n; ++s) {
+          if (w[s] > 0) sum += w[s] * std::polar(1.0, k_phase * (sub[s].t - dom.t));
+        }
+        const double radial = dom.t + std::arg(sum) / k_phase;
+        // The pixel's footprint centre (lateral jitter included).
+        const Ray centre = cam.ray(u + 0.5 + jitter[3 * u], v + 0.5 + jitter[3 * u + 1]);
+        const Vec3 dir_cam = to_cam * centre.direction;
+        const double z = radial * dir_cam.z();
+        const double theta = std::acos(std::clamp(-dom.normal.dot(sray[dominant].direction), -1.0, 1.0));
+        out.true_depth[idx] = static_cast<float>((to_cam * (dom.point - pose.translation())).z());
+        out.label[idx] = static_cast<std::uint8_t>(dom.part);
+        out.berry[idx] = dom.berry;
+        depth[idx] = static_cast<float>(z);  // raw depth map: the edge filter sees every return
+        if (z < p_.min_range || z > p_.max_range || theta > max_incidence) continue;
+        const double zn = z + p_.noise_scale * axial_sigma(z, theta) * jitter[3 * u + 2];
+        const Vec3 pc = dir_cam * (zn / dir_cam.z());
+        out.xyz[idx] = pc.cast<float>();
+        out.normal[idx] = (to_cam * dom.normal).cast<float>();
+        out.rgb[idx] = shade(dom.colour, dom.normal, sray[dominant].direction);
+        out.valid[idx] = 1;
+        depth[idx] = static_cast<float>(zn);
+      }
+    }
+  });
+  out.rays_cast = rays_cast;
+
+  if (p_.edge_filter) {
+    std::vector<std::uint8_t> keep = out.valid;
+    for (int v = 0; v < H; ++v) {
+      for (int u = 0; u < W; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * W + u;
+        if (!out.valid[i]) continue;
+        const double tol = std::max(p_.edge_abs, p_.edge_rel * depth[i]);
+        for (int dv = -1; dv <= 1 && keep[i]; ++dv) {
+          for (int du = -1; du <= 1; ++du) {
+            const int uu = u + du, vv = v + dv;
+            if (uu < 0 || vv < 0 || uu >= W || vv >= H || (du == 0 && dv == 0)) continue;
+            const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
+            if (depth[j] > 0 && std::abs(depth[j] - depth[i]) > tol) {
+              keep[i] = 0;
+              break;
+            }
+          }
+        }
+      }
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (!keep[i] && out.valid[i]) {
+        out.valid[i] = 0;
+        out.xyz[i] = Eigen::Vector3f::Constant(NAN);
+      }
+    }
+  }
+  return out;
+}
+
+nlohmann::ordered_json KinectV2::describe() const {
+  return {{"type", type()},
+          {"width", p_.width},
+          {"height", p_.height},
+          {"hfov_deg", p_.hfov_deg},
+          {"vfov_deg", p_.vfov_deg},
+          {"min_range_m", p_.min_range},
+          {"max_range_m", p_.max_range},
+          {"noise_scale", p_.noise_scale},
+          {"axial_mm", {p_.axial_a0, p_.axial_a1, p_.axial_a2, p_.axial_a3}},
+          {"lateral_sd_px", p_.lateral_sd_px},
+          {"max_incidence_deg", p_.max_incidence_deg},
+          {"supersampling", p_.supersampling},
+          {"modulation_mhz", p_.modulation_mhz},
+          {"min_amplitude", p_.min_amplitude},
+          {"edge_filter", p_.edge_filter},
+          {"edge_abs_m", p_.edge_abs},
+          {"edge_rel", p_.edge_rel}};
+}
+
+std::unique_ptr<Sensor> KinectV2::create(const ConfigNode& n) {
+  KinectV2Params p;
+  p.width = static_cast<int>(n.get_int("width", p.width, 16, 4096));
+  p.height = static_cast<int>(n.get_int("height", p.height, 16, 4096));
+  p.hfov_deg = n.get_real("hfov_deg", p.hfov_deg, 30, 120);
+  p.vfov_deg = n.get_real("vfov_deg", p.vfov_deg, 20, 100);
+  p.min_range = n.get_real("min_range", p.min_range, 0.1, 10);
+  p.max_range = n.get_real("max_range", p.max_range, 0.2, 20);
+  p.noise_scale = n.get_real("noise_scale", p.noise_scale, 0, 20);
+  p.lateral_sd_px = n.get_real("lateral_sd_px", p.lateral_sd_px, 0, 5);
+  p.max_incidence_deg = n.get_real("max_incidence_deg", p.max_incidence_deg, 10, 90);
+  p.supersampling = static_cast<int>(n.get_int("supersampling", p.supersampling, 1, 8));
+  p.modulation_mhz = n.get_real("modulation_mhz", p.modulation_mhz, 1, 200);
+  p.min_amplitude = n.get_real("min_amplitude", p.min_amplitude, 0, 1);
+  p.edge_filter = n.get_bool("edge_filter", p.edge_filter);
+  p.edge_abs = n.get_real("edge_abs", p.edge_abs, 0.001, 0.5);
+  p.edge_rel = n.get_real("edge_rel", p.edge_rel, 0, 0.5);
+  if (p.min_range >= p.max_range) n.fail("min_range", "must be below max_range");
+  return std::make_unique<KinectV2>(p);
+}
+
+}  // namespace grapebench

@@ -1,0 +1,52 @@
+// Kinect v2 (time of flight), the sensor of seeds 000 and 002.
+#pragma once
+
+#include "sensors/sensor.h"
+
+namespace grapebench {
+
+struct KinectV2Params {
+  int width = 512, height = 424;   // pixels (Kinect v2 depth camera)
+  double hfov_deg = 70.6;          // deg, [30, 120]
+  double vfov_deg = 60.0;          // deg, [20, 100]
+  double min_range = 0.5;          // m, [0.1, 10]: no return nearer (seed 000: 0.5-4.5 m)
+  double max_range = 4.5;          // m, [0.2, 20]
+  double noise_scale = 1.0;        // 0 ideal geometry, 1 nominal, >1 worse; [0, 20]
+  // Axial noise, Fankhauser et al. 2015 (z in m, theta incidence angle, result in mm):
+  //   sigma_z = a0 + a1 z + a2 z^2 + a3 z^1.5 theta^2 / (pi/2 - theta)^2
+  // 1.3 mm at 1 m head-on, within the 2 mm seed 000 states.
+  double axial_a0 = 1.5, axial_a1 = -0.5, axial_a2 = 0.3, axial_a3 = 0.1;  // mm
+  // Lateral noise: sd of the pixel's footprint position, pixels (Fankhauser et al.
+  // 2015 report about one pixel or less, nearly constant with distance). [0, 5]
+  double lateral_sd_px = 0.5;
+  double max_incidence_deg = 80;  // deg, [10, 90]: no return at more grazing angles
+  // Mixed ("flying") pixels: each pixel's footprint is sampled by n x n rays and their
+  // returns blended as a ToF pixel does, by summing phasors of amplitude
+  // albedo cos(theta) / r^2 at the modulation frequency. [1, 8]
+  int supersampling = 2;
+  double modulation_mhz = 16;   // MHz, [1, 200]: lowest Kinect v2 frequency (unambiguous)
+  double min_amplitude = 0.25;  // fraction of a full-pixel return below which the pixel is dropped, [0, 1]
+  // Edge filter like the official driver's: drop pixels whose depth differs from an
+  // 8-neighbour by more than max(edge_abs, edge_rel z). On by default.
+  bool edge_filter = true;
+  double edge_abs = 0.015;  // m, [0.001, 0.5]
+  double edge_rel = 0.02;   // -, [0, 0.5]
+};
+
+class KinectV2 : public Sensor {
+ public:
+  explicit KinectV2(const KinectV2Params& p) : p_(p) {}
+  static std::unique_ptr<Sensor> create(const ConfigNode& node);
+  std::string type() const override { return "kinect_v2"; }
+  Intrinsics intrinsics() const override;
+  OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override;
+  nlohmann::ordered_json describe() const override;
+  // The model's axial noise sd, m, at depth z (m) and incidence theta (rad), before noise_scale.
+  double axial_sigma(double z, double theta) const;
+  const KinectV2Params& params() const { return p_; }
+
+ private:
+  KinectV2Params p_;
+};
+
+}  // namespace grapebench

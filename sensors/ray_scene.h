@@ -1,0 +1,93 @@
+// The ray-casting scene of one bunch: an Embree 3 device and scene owned by one RAII
+// object (error callback set, no globals). Berries are Embree's native spheres, stems
+// exact flat-capped cylinders through a user geometry (the same solids the ground
+// truth measures); an optional background plane is intersected analytically, so
+// rays that can only reach the plane never enter Embree.
+#pragma once
+
+#include "synth/types.h"
+
+#include <embree3/rtcore.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace grapebench {
+
+// A plane n·x = offset (n unit, facing the cameras), infinite, of one colour.
+struct BackgroundPlane {
+  Vec3 normal = Vec3::UnitY();
+  double offset = 0;
+  Rgb colour{0.3f, 0.3f, 0.3f};
+  double albedo = 0.5;
+};
+
+struct Hit {
+  double t = -1;            // distance along the unit ray direction, m; < 0: miss
+  Vec3 point = Vec3::Zero();   // m, world
+  Vec3 normal = Vec3::Zero();  // unit, world, facing the ray
+  Part part = Part::None;
+  int berry = -1;  // berry id for berries and their pedicels, else -1
+  int primitive = -1;  // berry or stem index; -1 for the plane
+  Rgb colour;
+  bool valid() const { return t >= 0; }
+};
+
+struct Ray {
+  Vec3 origin;
+  Vec3 direction;  // unit
+};
+
+class RayScene {
+ public:
+  explicit RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background = std::nullopt);
+  // The same Embree scene (shared, not rebuilt) with another background.
+  RayScene with_background(std::optional<BackgroundPlane> background) const;
+
+  // Nearest hits of rays (any count), through 16-ray packets; hits are refined in
+  // double precision against the exact primitive. `bunch_only` skips the plane.
+  void intersect(const std::vector<Ray>& rays, std::vector<Hit>& hits, bool bunch_only = false) const;
+  Hit intersect(const Ray& ray, bool bunch_only = false) const;
+  // Whether anything (bunch or plane) blocks the segment from `from` to `to`,
+  // excluding a tolerance at both ends. One packet per 16 queries.
+  void occluded(const std::vector<Vec3>& from, const std::vector<Vec3>& to, std::vector<char>& blocked) const;
+
+  // The background plane alone (analytic); a miss when there is none.
+  Hit background_hit(const Ray& ray) const { return plane_hit(ray); }
+  bool has_bunch() const { return !state_->bunch.berries.empty() || !state_->bunch.stems.empty(); }
+
+  // Raw Embree cast of the same packets with no refinement or labels: the
+  // reference loop the sensor models are benchmarked against.
+  std::size_t raw_intersect_count(const std::vector<Ray>& rays) const;
+
+  const Bunch& bunch() const { return state_->bunch; }
+  const std::optional<BackgroundPlane>& background() const { return background_; }
+  // Bounding sphere of the bunch (centre, radius), m.
+  Vec3 bounds_centre() const { return centre_; }
+  double bounds_radius() const { return radius_; }
+
+ private:
+  void refine(const Ray& ray, unsigned geom, unsigned prim, double t, Hit& hit) const;
+  Hit plane_hit(const Ray& ray) const;
+
+  // The Embree device and scene with everything they point to; released together.
+  struct State {
+    Bunch bunch;
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    unsigned sphere_geom = RTC_INVALID_GEOMETRY_ID, stem_geom = RTC_INVALID_GEOMETRY_ID;
+    std::vector<Stem> stems;  // user data of the stem geometry
+    std::string last_error;   // written by Embree's error callback
+    ~State();
+  };
+  RayScene() = default;
+
+  std::shared_ptr<State> state_;
+  std::optional<BackgroundPlane> background_;
+  Vec3 centre_ = Vec3::Zero();
+  double radius_ = 0;
+};
+
+}  // namespace grapebench

@@ -1,0 +1,183 @@
+#include "sensors/scan.h"
+
+#include "synth/io.h"
+#include "synth/rng.h"
+
+#include <png.h>
+
+#include <chrono>
+#include <cstring>
+#include <sstream>
+
+namespace grapebench {
+
+Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
+                std::uint64_t seed) {
+  Scan scan;
+  scan.seed = seed;
+  scan.sensor = sensor.describe();
+  scan.rig = rig.describe();
+  scan.background = {{"type", background.type}, {"distance_m", background.distance},
+                     {"colour", {background.colour.r, background.colour.g, background.colour.b}},
+                     {"albedo", background.albedo}};
+  const auto views = rig.views(scene.bounds_centre(), scene.bounds_radius(), background);
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    ScanView v;
+    v.rig = views[k];
+    v.camera = Camera{sensor.intrinsics(), views[k].pose};
+    const auto t0 = std::chrono::steady_clock::now();
+    v.cloud = sensor.capture(scene.with_background(views[k].background), views[k].pose, derive_seed(seed, k));
+    v.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    scan.views.push_back(std::move(v));
+  }
+  return scan;
+}
+
+namespace {
+
+template <class T>
+void put(std::string& s, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  s.append(b, sizeof(T));
+}
+
+void png_append(png_structp png, png_bytep data, png_size_t n) {
+  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), n);
+}
+
+// Encodes rows of `bytes_per_pixel` bytes (big-endian for 16-bit, as PNG wants).
+std::string png_bytes(int w, int h, int bit_depth, int colour_type, const std::vector<unsigned char>& pixels) {
+  std::string out;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  if (!png || !info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw InputError("PNG encoding failed");
+  }
+  png_set_write_fn(png, &out, png_append, nullptr);
+  png_set_IHDR(png, info, w, h, bit_depth, colour_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  const std::size_t row = pixels.size() / h;
+  for (int y = 0; y < h; ++y) png_write_row(png, const_cast<unsigned char*>(pixels.data() + y * row));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return out;
+}
+
+std::string json_matrix(const Eigen::Isometry3d& T) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "[";
+  for (int r = 0; r < 4; ++r) {
+    s << (r ? "," : "") << "[";
+    for (int c = 0; c < 4; ++c) s << (c ? "," : "") << T.matrix()(r, c);
+    s << "]";
+  }
+  s << "]";
+  return s.str();
+}
+
+}  // namespace
+
+std::string pcd_bytes(const OrganisedCloud& c) {
+  std::ostringstream h;
+  h << "# .PCD v0.7 - grapebench organised scan view, sensor frame (x right, y down, z forward), metres\n"
+    << "VERSION 0.7\nFIELDS x y z rgb normal_x normal_y normal_z label berry\n"
+    << "SIZE 4 4 4 4 4 4 4 4 4\nTYPE F F F U F F F U I\nCOUNT 1 1 1 1 1 1 1 1 1\n"
+    << "WIDTH " << c.width << "\nHEIGHT " << c.height << "\nVIEWPOINT 0 0 0 1 0 0 0\n"
+    << "POINTS " << c.size() << "\nDATA binary\n";
+  std::string s = h.str();
+  s.reserve(s.size() + c.size() * 36);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const float nan = NAN;
+    const bool ok = c.valid[i];
+    for (int k = 0; k < 3; ++k) put<float>(s, ok ? c.xyz[i][k] : nan);
+    const std::uint32_t rgb = (std::uint32_t(c.rgb[i][0]) << 16) | (std::uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2];
+    put<std::uint32_t>(s, ok ? rgb : 0);
+    for (int k = 0; k < 3; ++k) put<float>(s, ok ? c.normal[i][k] : nan);
+    put<std::uint32_t>(s, c.label[i]);
+    put<std::int32_t>(s, c.berry[i]);
+  }
+  return s;
+}
+
+std::string ply_points_bytes(const OrganisedCloud& c) {
+  std::ostringstream h;
+  h << "ply\nformat binary_little_endian 1.0\n"
+    << "comment grapebench scan view, sensor frame, metres; label: 0 berry 1 pedicel 2 rachis 3 peduncle 4 background\n"
+    << "element vertex " << c.valid_count() << "\n"
+    << "property float x\nproperty float y\nproperty float z\n"
+    << "property float nx\nproperty float ny\nproperty float nz\n"
+    << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+    << "property uchar label\nproperty int berry\nend_header\n";
+  std::string s = h.str();
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!c.valid[i]) continue;
+    for (int k = 0; k < 3; ++k) put<float>(s, c.xyz[i][k]);
+    for (int k = 0; k < 3; ++k) put<float>(s, c.normal[i][k]);
+    for (int k = 0; k < 3; ++k) put<std::uint8_t>(s, c.rgb[i][k]);
+    put<std::uint8_t>(s, c.label[i]);
+    put<std::int32_t>(s, c.berry[i]);
+  }
+  return s;
+}
+
+std::string depth_png_bytes(const OrganisedCloud& c) {
+  std::vector<unsigned char> px(c.size() * 2, 0);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!c.valid[i]) continue;
+    const long mm = std::lround(c.xyz[i].z() * 1000.0);
+    const auto v = static_cast<std::uint16_t>(std::clamp(mm, 0L, 65535L));
+    px[2 * i] = static_cast<unsigned char>(v >> 8);
+    px[2 * i + 1] = static_cast<unsigned char>(v & 0xFF);
+  }
+  return png_bytes(c.width, c.height, 16, PNG_COLOR_TYPE_GRAY, px);
+}
+
+std::string rgb_png_bytes(const OrganisedCloud& c) {
+  std::vector<unsigned char> px(c.size() * 3, 0);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    for (int k = 0; k < 3; ++k) px[3 * i + k] = c.valid[i] ? c.rgb[i][k] : 0;
+  }
+  return png_bytes(c.width, c.height, 8, PNG_COLOR_TYPE_RGB, px);
+}
+
+std::string label_png_bytes(const OrganisedCloud& c) {
+  std::vector<unsigned char> px(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i) px[i] = c.valid[i] ? c.label[i] : 255;
+  return png_bytes(c.width, c.height, 8, PNG_COLOR_TYPE_GRAY, px);
+}
+
+void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem) {
+  std::filesystem::create_directories(dir);
+  nlohmann::ordered_json m;
+  m["format"] = "grapebench-scan/1";
+  m["frames"] = "world: z up, bunch rachis top at the origin; camera: x right, y down, z forward";
+  m["seed"] = scan.seed;
+  m["sensor"] = scan.sensor;
+  m["rig"] = scan.rig;
+  m["background"] = scan.background;
+  nlohmann::ordered_json views = nlohmann::ordered_json::array();
+  for (const auto& v : scan.views) {
+    const std::string base = stem + "_" + v.rig.name;
+    write_file_atomic(dir / (base + ".pcd"), pcd_bytes(v.cloud));
+    write_file_atomic(dir / (base + ".ply"), ply_points_bytes(v.cloud));
+    write_file_atomic(dir / (base + "_depth.png"), depth_png_bytes(v.cloud));
+    write_file_atomic(dir / (base + "_rgb.png"), rgb_png_bytes(v.cloud));
+    write_file_atomic(dir / (base + "_label.png"), label_png_bytes(v.cloud));
+    const auto& K = v.camera.K;
+    views.push_back({{"name", v.rig.name},
+                     {"camera_to_world", nlohmann::ordered_json::parse(json_matrix(v.rig.pose))},
+                     {"turntable_angle_deg", v.rig.turntable_angle_deg},
+                     {"intrinsics", {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy},
+                                     {"cx", K.cx}, {"cy", K.cy}}},
+                     {"valid_points", v.cloud.valid_count()},
+                     {"files", {base + ".pcd", base + ".ply", base + "_depth.png", base + "_rgb.png", base + "_label.png"}}});
+  }
+  m["views"] = views;
+  write_file_atomic(dir / (stem + "_scan.json"), m.dump(1) + "\n");
+}
+
+}  // namespace grapebench

@@ -1,0 +1,43 @@
+// A multi-view scan of one bunch, and its files.
+#pragma once
+
+#include "sensors/rig.h"
+#include "sensors/sensor.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace grapebench {
+
+struct ScanView {
+  RigView rig;
+  Camera camera;
+  OrganisedCloud cloud;
+  double seconds = 0;  // wall time of the capture (not written to the data files)
+};
+
+struct Scan {
+  std::vector<ScanView> views;
+  nlohmann::ordered_json sensor, rig, background;
+  std::uint64_t seed = 0;
+};
+
+// Every view of `rig` through `sensor`; view k draws from derive_seed(seed, k).
+Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
+                std::uint64_t seed);
+
+// Files of one view: organised binary PCD (x y z rgb normal label berry, NaN where
+// invalid), binary PLY of the valid points, 16-bit depth PNG (mm, 0 = no return) and
+// RGB PNG.
+std::string pcd_bytes(const OrganisedCloud& cloud);
+std::string ply_points_bytes(const OrganisedCloud& cloud);
+std::string depth_png_bytes(const OrganisedCloud& cloud);
+std::string rgb_png_bytes(const OrganisedCloud& cloud);
+std::string label_png_bytes(const OrganisedCloud& cloud);  // 8-bit Part per pixel, 255 = none
+
+// Writes `<dir>/<stem>_<view>.{pcd,ply}`, `_depth.png`, `_rgb.png`, `_label.png`
+// per view and `<dir>/<stem>_scan.json` (intrinsics, poses, sensor, rig, files).
+void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem);
+
+}  // namespace grapebench

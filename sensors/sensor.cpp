@@ -1,0 +1,65 @@
+#include "sensors/sensor.h"
+
+#include "sensors/d435.h"
+#include "sensors/ideal.h"
+#include "sensors/kinect_v2.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+namespace grapebench {
+
+const std::vector<SensorEntry>& sensor_registry() {
+  static const std::vector<SensorEntry> entries = {
+      {"kinect_v2", "Kinect v2 time of flight, 512 x 424 (seeds 000, 002)", KinectV2::create},
+      {"d435", "RealSense D435 active stereo, 848 x 480 (seed 003)", D435::create},
+      {"ideal", "noise-free pinhole rays, the control", IdealSensor::create},
+  };
+  return entries;
+}
+
+std::unique_ptr<Sensor> make_sensor(const ConfigNode& node) {
+  std::vector<std::string> names;
+  for (const auto& e : sensor_registry()) names.push_back(e.type);
+  const std::string type = node.get_choice("type", "kinect_v2", names);
+  for (const auto& e : sensor_registry()) {
+    if (e.type == type) return e.create(node);
+  }
+  node.fail("type", "unknown sensor");
+}
+
+std::array<std::uint8_t, 3> shade(const Rgb& c, const Vec3& normal, const Vec3& ray_dir) {
+  // Light at the camera: ambient plus Lambert.
+  const double k = 0.35 + 0.65 * std::max(0.0, -normal.dot(ray_dir));
+  auto byte = [&](float x) { return static_cast<std::uint8_t>(std::lround(std::clamp(x * k, 0.0, 1.0) * 255)); };
+  return {byte(c.r), byte(c.g), byte(c.b)};
+}
+
+void for_rows(int height, const std::function<void(int, int)>& body) {
+  const int block = 8;
+  tbb::parallel_for(0, (height + block - 1) / block, [&](int b) {
+    body(b * block, std::min(height, (b + 1) * block));
+  });
+}
+
+void OrganisedCloud::resize(int w, int h) {
+  width = w;
+  height = h;
+  const std::size_t n = size();
+  xyz.assign(n, Eigen::Vector3f::Constant(NAN));
+  rgb.assign(n, {0, 0, 0});
+  normal.assign(n, Eigen::Vector3f::Zero());
+  label.assign(n, static_cast<std::uint8_t>(Part::None));
+  berry.assign(n, -1);
+  valid.assign(n, 0);
+  true_depth.assign(n, 0.0f);
+}
+
+std::size_t OrganisedCloud::valid_count() const {
+  std::size_t n = 0;
+  for (auto v : valid) n += v;
+  return n;
+}
+
+}  // namespace grapebench

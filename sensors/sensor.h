@@ -1,0 +1,57 @@
+// Sensor models and their registry (scene files name them by `type`).
+#pragma once
+
+#include "sensors/camera.h"
+#include "sensors/cloud.h"
+#include "sensors/ray_scene.h"
+#include "synth/config.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace grapebench {
+
+class Sensor {
+ public:
+  virtual ~Sensor() = default;
+  virtual std::string type() const = 0;
+  virtual Intrinsics intrinsics() const = 0;
+  // One frame from a camera at `pose` (camera to world). Every random draw comes
+  // from `seed` and the pixel index, so the frame is the same at any thread count.
+  virtual OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose,
+                                 std::uint64_t seed) const = 0;
+  // All parameters with their values, for the manifest.
+  virtual nlohmann::ordered_json describe() const = 0;
+};
+
+using SensorFactory = std::function<std::unique_ptr<Sensor>(const ConfigNode&)>;
+
+struct SensorEntry {
+  std::string type;
+  std::string summary;
+  SensorFactory create;
+};
+
+// Every registered sensor; adding one is one file pair plus one line in sensor.cpp.
+const std::vector<SensorEntry>& sensor_registry();
+// Builds the sensor a scene's `sensor:` mapping names; errors name file:line.
+std::unique_ptr<Sensor> make_sensor(const ConfigNode& node);
+
+// Helpers shared by the models.
+std::array<std::uint8_t, 3> shade(const Rgb& colour, const Vec3& normal, const Vec3& ray_dir);
+inline double point_segment_distance_sq(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).squaredNorm();
+}
+// Parallel loop over image rows in fixed blocks (deterministic result).
+void for_rows(int height, const std::function<void(int v0, int v1)>& body);
+
+}  // namespace grapebench
