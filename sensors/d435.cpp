@@ -29,30 +29,31 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
 
   for_rows(H, [&](int r0, int r1) {
     std::vector<Ray> rays;
-    std::vector<Hit> hits, part_hits;
+    std::vector<Hit> hits;
     std::vector<Vec3> from, to;
     std::vector<std::size_t> who;
-    std::vector<char> blocked;
+    std::vector<char> blocked, shadow;
     for (int v = r0; v < r1; ++v) {
-      rays.clear();
-      for (int u = 0; u < W; ++u) rays.push_back(cam.ray(u + 0.5, v + 0.5));
-      hits.assign(rays.size(), Hit{});
       const bool row_sees_bunch = bunch_visible && v >= bv0 && v < bv1;
-      for (int u = 0; u < W; ++u) {
+      const bool plane = scene.background().has_value();
+      if (!row_sees_bunch && !plane) continue;  // nothing can return light
+      const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
+      rays.resize(W);
+      hits.resize(W);
+      for (int u = ua; u < ub; ++u) rays[u] = cam.ray(u + 0.5, v + 0.5);
+      for (int u = ua; u < ub; ++u) {
         if (!(row_sees_bunch && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(rays[u]);
       }
       if (row_sees_bunch) {
-        std::vector<Ray> part(rays.begin() + bu0, rays.begin() + bu1);
-        scene.intersect(part, part_hits);
-        std::copy(part_hits.begin(), part_hits.end(), hits.begin() + bu0);
-        rays_cast += part.size();
+        scene.intersect(rays.data() + bu0, bu1 - bu0, hits.data() + bu0);
+        rays_cast += bu1 - bu0;
       }
       // Occlusion shadows: the point must be seen by the right imager and lit by
       // the projector; only segments that can cross the bunch are traced.
       from.clear();
       to.clear();
       who.clear();
-      for (int u = 0; u < W; ++u) {
+      for (int u = ua; u < ub; ++u) {
         if (!hits[u].valid()) continue;
         if (may_block(right, hits[u].point)) {
           from.push_back(right);
@@ -67,9 +68,9 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
       }
       scene.occluded(from, to, blocked);
       rays_cast += from.size();
-      std::vector<char> shadow(W, 0);
+      shadow.assign(W, 0);
       for (std::size_t k = 0; k < who.size(); ++k) shadow[who[k]] |= blocked[k];
-      for (int u = 0; u < W; ++u) {
+      for (int u = ua; u < ub; ++u) {
         const std::size_t idx = static_cast<std::size_t>(v) * W + u;
         const Hit& h = hits[u];
         if (!h.valid()) continue;
@@ -79,8 +80,7 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
         out.label[idx] = static_cast<std::uint8_t>(h.part);
         out.berry[idx] = h.berry;
         if (shadow[u]) continue;
-        Rng rng(derive_seed(seed, idx));
-        double d = fB / z + p_.noise_scale * p_.subpixel_sd * rng.normal();
+        double d = fB / z + p_.noise_scale * p_.subpixel_sd * hashed_normal(seed, idx);
         if (p_.disparity_step > 0) d = std::round(d / p_.disparity_step) * p_.disparity_step;
         if (d <= 0 || d > p_.max_disparity) continue;  // nearer than MinZ, or no match
         const double zd = fB / d;

@@ -16,22 +16,23 @@ OrganisedCloud IdealSensor::capture(const RayScene& scene, const Eigen::Isometry
   std::atomic<std::uint64_t> rays_cast{0};
   for_rows(H, [&](int r0, int r1) {
     std::vector<Ray> rays;
-    std::vector<Hit> hits, part_hits;
+    std::vector<Hit> hits;
     for (int v = r0; v < r1; ++v) {
-      rays.clear();
-      for (int u = 0; u < W; ++u) rays.push_back(cam.ray(u + 0.5, v + 0.5));
-      hits.assign(rays.size(), Hit{});
       const bool row = bunch_visible && v >= bv0 && v < bv1;
-      for (int u = 0; u < W; ++u) {
+      const bool plane = scene.background().has_value();
+      if (!row && !plane) continue;  // nothing can return light
+      const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
+      rays.resize(W);
+      hits.resize(W);
+      for (int u = ua; u < ub; ++u) rays[u] = cam.ray(u + 0.5, v + 0.5);
+      for (int u = ua; u < ub; ++u) {
         if (!(row && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(rays[u]);
       }
       if (row) {
-        std::vector<Ray> part(rays.begin() + bu0, rays.begin() + bu1);
-        scene.intersect(part, part_hits);
-        std::copy(part_hits.begin(), part_hits.end(), hits.begin() + bu0);
-        rays_cast += part.size();
+        scene.intersect(rays.data() + bu0, bu1 - bu0, hits.data() + bu0);
+        rays_cast += bu1 - bu0;
       }
-      for (int u = 0; u < W; ++u) {
+      for (int u = ua; u < ub; ++u) {
         const Hit& h = hits[u];
         if (!h.valid()) continue;
         const std::size_t idx = static_cast<std::size_t>(v) * W + u;

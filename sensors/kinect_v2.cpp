@@ -46,34 +46,38 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
     std::vector<Hit> hits;
     std::vector<double> jitter;  // per pixel: du, dv, axial normal draw
     for (int v = r0; v < r1; ++v) {
+      // Pixels that can see the bunch go through Embree; with a background plane the
+      // others are intersected analytically; without one they cannot return anything.
+      const bool row_sees = bunch_visible && v >= bv0 && v < bv1;
+      const bool plane = scene.background().has_value();
+      if (!row_sees && !plane) continue;
+      const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
       rays.clear();
-      jitter.clear();
-      for (int u = 0; u < W; ++u) {
-        Rng rng(derive_seed(seed, static_cast<std::uint64_t>(v) * W + u));
-        const double du = lateral * rng.normal(), dv = lateral * rng.normal();
-        jitter.insert(jitter.end(), {du, dv, rng.normal()});
+      jitter.assign(3 * static_cast<std::size_t>(W), 0.0);
+      for (int u = ua; u < ub; ++u) {
+        const std::uint64_t k = 3 * (static_cast<std::uint64_t>(v) * W + u);
+        const double du = lateral * hashed_normal(seed, k), dv = lateral * hashed_normal(seed, k + 1);
+        jitter[3 * u] = du;
+        jitter[3 * u + 1] = dv;
+        jitter[3 * u + 2] = hashed_normal(seed, k + 2);
         for (int a = 0; a < n; ++a) {
           for (int b = 0; b < n; ++b) rays.push_back(cam.ray(u + (b + 0.5) / n + du, v + (a + 0.5) / n + dv));
         }
       }
-      // Embree only for the pixels that can see the bunch; the plane is analytic.
-      hits.assign(rays.size(), Hit{});
-      if (bunch_visible && v >= bv0 && v < bv1) {
-        const std::size_t first = static_cast<std::size_t>(bu0) * n * n, last = static_cast<std::size_t>(bu1) * n * n;
-        std::vector<Ray> part(rays.begin() + first, rays.begin() + last);
-        std::vector<Hit> part_hits;
-        scene.intersect(part, part_hits);
-        std::copy(part_hits.begin(), part_hits.end(), hits.begin() + first);
-        rays_cast += part.size();
-        for (std::size_t i = 0; i < first; ++i) hits[i] = scene.background_hit(rays[i]);
-        for (std::size_t i = last; i < rays.size(); ++i) hits[i] = scene.background_hit(rays[i]);
-      } else {
-        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = scene.background_hit(rays[i]);
+      hits.resize(rays.size());
+      const std::size_t nn = static_cast<std::size_t>(n) * n;
+      const std::size_t first = row_sees ? (bu0 - ua) * nn : rays.size();
+      const std::size_t last = row_sees ? (bu1 - ua) * nn : rays.size();
+      if (row_sees) {
+        scene.intersect(rays.data() + first, last - first, hits.data() + first);
+        rays_cast += last - first;
       }
-      for (int u = 0; u < W; ++u) {
+      for (std::size_t i = 0; i < first; ++i) hits[i] = scene.background_hit(rays[i]);
+      for (std::size_t i = last; i < rays.size(); ++i) hits[i] = scene.background_hit(rays[i]);
+      for (int u = ua; u < ub; ++u) {
         const std::size_t idx = static_cast<std::size_t>(v) * W + u;
-        const Hit* sub = &hits[static_cast<std::size_t>(u) * n * n];
-        const Ray* sray = &rays[static_cast<std::size_t>(u) * n * n];
+        const Hit* sub = &hits[static_cast<std::size_t>(u - ua) * nn];
+        const Ray* sray = &rays[static_cast<std::size_t>(u - ua) * nn];
         // ToF pixel: sum of the returns' phasors, amplitude albedo cos(theta) / r^2.
         int dominant = -1, returns = 0;
         double wmax = 0;
@@ -120,8 +124,13 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
 
   if (p_.edge_filter) {
     std::vector<std::uint8_t> keep = out.valid;
-    for (int v = 0; v < H; ++v) {
-      for (int u = 0; u < W; ++u) {
+    // Only pixels that returned can be dropped: without a background that is the
+    // bunch's image rectangle.
+    const bool plane = scene.background().has_value();
+    const int fv0 = plane ? 0 : bv0, fv1 = plane ? H : (bunch_visible ? bv1 : 0);
+    const int fu0 = plane ? 0 : bu0, fu1 = plane ? W : bu1;
+    for (int v = fv0; v < fv1; ++v) {
+      for (int u = fu0; u < fu1; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         if (!out.valid[i]) continue;
         const double tol = std::max(p_.edge_abs, p_.edge_rel * depth[i]);
@@ -138,12 +147,7 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
         }
       }
     }
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      if (!keep[i] && out.valid[i]) {
-        out.valid[i] = 0;
-        out.xyz[i] = Eigen::Vector3f::Constant(NAN);
-      }
-    }
+    out.valid = std::move(keep);
   }
   return out;
 }

@@ -238,13 +238,17 @@ void RayScene::refine(const Ray& ray, unsigned geom, unsigned prim, double t_flo
 }
 
 void RayScene::intersect(const std::vector<Ray>& rays, std::vector<Hit>& hits, bool bunch_only) const {
-  hits.assign(rays.size(), Hit{});
+  hits.resize(rays.size());
+  intersect(rays.data(), rays.size(), hits.data(), bunch_only);
+}
+
+void RayScene::intersect(const Ray* rays, std::size_t count, Hit* hits, bool bunch_only) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   alignas(64) RTCRayHit16 rh;
   alignas(64) int valid[16];
-  for (std::size_t base = 0; base < rays.size(); base += 16) {
-    const std::size_t n = std::min<std::size_t>(16, rays.size() - base);
+  for (std::size_t base = 0; base < count; base += 16) {
+    const std::size_t n = std::min<std::size_t>(16, count - base);
     for (std::size_t k = 0; k < 16; ++k) {
       valid[k] = k < n ? -1 : 0;
       const Ray& r = rays[base + std::min(k, n - 1)];
@@ -267,6 +271,7 @@ void RayScene::intersect(const std::vector<Ray>& rays, std::vector<Hit>& hits, b
     for (std::size_t k = 0; k < n; ++k) {
       const Ray& r = rays[base + k];
       Hit& h = hits[base + k];
+      h = Hit{};
       if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) refine(r, rh.hit.geomID[k], rh.hit.primID[k], rh.ray.tfar[k], h);
       if (!bunch_only && background_) {
         const Hit p = plane_hit(r);

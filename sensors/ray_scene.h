@@ -49,6 +49,7 @@ class RayScene {
   // Nearest hits of rays (any count), through 16-ray packets; hits are refined in
   // double precision against the exact primitive. `bunch_only` skips the plane.
   void intersect(const std::vector<Ray>& rays, std::vector<Hit>& hits, bool bunch_only = false) const;
+  void intersect(const Ray* rays, std::size_t count, Hit* hits, bool bunch_only = false) const;
   Hit intersect(const Ray& ray, bool bunch_only = false) const;
   // Whether anything (bunch or plane) blocks the segment from `from` to `to`,
   // excluding a tolerance at both ends. One packet per 16 queries.

@@ -97,8 +97,8 @@ std::string pcd_bytes(const OrganisedCloud& c) {
     const std::uint32_t rgb = (std::uint32_t(c.rgb[i][0]) << 16) | (std::uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2];
     put<std::uint32_t>(s, ok ? rgb : 0);
     for (int k = 0; k < 3; ++k) put<float>(s, ok ? c.normal[i][k] : nan);
-    put<std::uint32_t>(s, c.label[i]);
-    put<std::int32_t>(s, c.berry[i]);
+    put<std::uint32_t>(s, ok ? c.label[i] : static_cast<std::uint32_t>(Part::None));
+    put<std::int32_t>(s, ok ? c.berry[i] : -1);
   }
   return s;
 }

@@ -47,13 +47,13 @@ void OrganisedCloud::resize(int w, int h) {
   width = w;
   height = h;
   const std::size_t n = size();
-  xyz.assign(n, Eigen::Vector3f::Constant(NAN));
-  rgb.assign(n, {0, 0, 0});
-  normal.assign(n, Eigen::Vector3f::Zero());
-  label.assign(n, static_cast<std::uint8_t>(Part::None));
-  berry.assign(n, -1);
   valid.assign(n, 0);
-  true_depth.assign(n, 0.0f);
+  label.assign(n, static_cast<std::uint8_t>(Part::None));
+  berry.resize(n);
+  xyz.resize(n);
+  normal.resize(n);
+  rgb.resize(n);
+  true_depth.resize(n);
 }
 
 std::size_t OrganisedCloud::valid_count() const {

@@ -112,7 +112,7 @@ TEST(Sensors, NoReturnIsAHiddenSurfacePoint) {
   for (int v = 0; v < cam.K.height; ++v) {
     for (int u = 0; u < cam.K.width; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * cam.K.width + u;
-      if (c.true_depth[i] <= 0) continue;
+      if (c.truth(i) <= 0) continue;
       const Ray r = cam.ray(u + 0.5, v + 0.5);
       const Vec3 dir_cam = pose.linear().transpose() * r.direction;
       const Vec3 p = r.origin + (c.true_depth[i] / dir_cam.z()) * r.direction;
@@ -151,11 +151,11 @@ TEST(Sensors, FlyingPixelsOnlyAtDepthDiscontinuitiesAndGoneWithEdgeFilter) {
         // surface depth in the 3 x 3 neighbourhood (a blend across a smaller step is
         // ordinary surface blur, which no neighbour-difference filter can tell apart).
         if (!c.valid[i]) continue;
-        const double tol = std::max(params.edge_abs, params.edge_rel * c.true_depth[i]);
+        const double tol = std::max(params.edge_abs, params.edge_rel * c.truth(i));
         bool on_surface = false;
         for (int dv = -1; dv <= 1; ++dv)
           for (int du = -1; du <= 1; ++du) {
-            const float t = c.true_depth[(v + dv) * c.width + u + du];
+            const float t = c.truth((v + dv) * c.width + u + du);
             on_surface = on_surface || (t > 0 && std::abs(c.xyz[i].z() - t) < tol);
           }
         if (on_surface) continue;
@@ -163,7 +163,7 @@ TEST(Sensors, FlyingPixelsOnlyAtDepthDiscontinuitiesAndGoneWithEdgeFilter) {
         float lo = 1e9f, hi = -1e9f;
         for (int dv = -1; dv <= 1; ++dv)
           for (int du = -1; du <= 1; ++du) {
-            const float t = c.true_depth[(v + dv) * c.width + u + du];
+            const float t = c.truth((v + dv) * c.width + u + du);
             lo = std::min(lo, t > 0 ? t : 1e9f);
             hi = std::max(hi, t > 0 ? t : 1e9f);
           }
