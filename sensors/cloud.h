@@ -50,6 +50,9 @@ struct OrganisedCloud {
   // noise or mixing, for scoring and for tests of the sensor artefacts.
   raw_vector<float> true_depth;
   float truth(std::size_t i) const { return label[i] == static_cast<std::uint8_t>(Part::None) ? 0.0f : true_depth[i]; }
+  // Rendered colour images of a stereo sensor (W x H x 3, row-major, top row first);
+  // empty for depth sensors.
+  std::vector<std::uint8_t> left_image, right_image;
   std::uint64_t rays_cast = 0;  // rays traced for this frame (for rays-per-second figures)
 
   void resize(int w, int h);

@@ -5,7 +5,11 @@
 namespace grapebench {
 
 OrganisedCloud IdealSensor::capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t) const {
-  const Camera cam{intrinsics(), pose};
+  return capture_exact(scene, Camera{intrinsics(), pose});
+}
+
+OrganisedCloud capture_exact(const RayScene& scene, const Camera& cam) {
+  const Eigen::Isometry3d& pose = cam.pose;
   const int W = cam.K.width, H = cam.K.height;
   int bu0 = 0, bv0 = 0, bu1 = 0, bv1 = 0;
   const bool bunch_visible =

@@ -11,6 +11,9 @@ struct IdealParams {
   double hfov_deg = 70.6;         // deg, [10, 150]
 };
 
+// Exact pinhole capture from `camera`: one ray per pixel centre, no noise, no limits.
+OrganisedCloud capture_exact(const RayScene& scene, const Camera& camera);
+
 class IdealSensor : public Sensor {
  public:
   explicit IdealSensor(const IdealParams& p) : p_(p) {}

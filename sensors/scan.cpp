@@ -144,6 +144,10 @@ std::string rgb_png_bytes(const OrganisedCloud& c) {
   return png_bytes(c.width, c.height, 8, PNG_COLOR_TYPE_RGB, px);
 }
 
+std::string image_png_bytes(int width, int height, const std::vector<std::uint8_t>& rgb) {
+  return png_bytes(width, height, 8, PNG_COLOR_TYPE_RGB, rgb);
+}
+
 std::string label_png_bytes(const OrganisedCloud& c) {
   std::vector<unsigned char> px(c.size());
   for (std::size_t i = 0; i < c.size(); ++i) px[i] = c.valid[i] ? c.label[i] : 255;
@@ -167,6 +171,14 @@ void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::s
     write_file_atomic(dir / (base + "_depth.png"), depth_png_bytes(v.cloud));
     write_file_atomic(dir / (base + "_rgb.png"), rgb_png_bytes(v.cloud));
     write_file_atomic(dir / (base + "_label.png"), label_png_bytes(v.cloud));
+    std::vector<std::string> files = {base + ".pcd", base + ".ply", base + "_depth.png", base + "_rgb.png",
+                                      base + "_label.png"};
+    if (!v.cloud.left_image.empty()) {
+      write_file_atomic(dir / (base + "_left.png"), image_png_bytes(v.cloud.width, v.cloud.height, v.cloud.left_image));
+      write_file_atomic(dir / (base + "_right.png"), image_png_bytes(v.cloud.width, v.cloud.height, v.cloud.right_image));
+      files.push_back(base + "_left.png");
+      files.push_back(base + "_right.png");
+    }
     const auto& K = v.camera.K;
     views.push_back({{"name", v.rig.name},
                      {"camera_to_world", nlohmann::ordered_json::parse(json_matrix(v.rig.pose))},
@@ -174,7 +186,7 @@ void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::s
                      {"intrinsics", {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy},
                                      {"cx", K.cx}, {"cy", K.cy}}},
                      {"valid_points", v.cloud.valid_count()},
-                     {"files", {base + ".pcd", base + ".ply", base + "_depth.png", base + "_rgb.png", base + "_label.png"}}});
+                     {"files", files}});
   }
   m["views"] = views;
   write_file_atomic(dir / (stem + "_scan.json"), m.dump(1) + "\n");

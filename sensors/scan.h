@@ -35,6 +35,7 @@ std::string ply_points_bytes(const OrganisedCloud& cloud);
 std::string depth_png_bytes(const OrganisedCloud& cloud);
 std::string rgb_png_bytes(const OrganisedCloud& cloud);
 std::string label_png_bytes(const OrganisedCloud& cloud);  // 8-bit Part per pixel, 255 = none
+std::string image_png_bytes(int width, int height, const std::vector<std::uint8_t>& rgb);  // W x H x 3
 
 // Writes `<dir>/<stem>_<view>.{pcd,ply}`, `_depth.png`, `_rgb.png`, `_label.png`
 // per view and `<dir>/<stem>_scan.json` (intrinsics, poses, sensor, rig, files).

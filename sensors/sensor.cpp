@@ -3,6 +3,7 @@
 #include "sensors/d435.h"
 #include "sensors/ideal.h"
 #include "sensors/kinect_v2.h"
+#include "sensors/stereo_rgb.h"
 
 #include <tbb/parallel_for.h>
 
@@ -14,6 +15,7 @@ const std::vector<SensorEntry>& sensor_registry() {
   static const std::vector<SensorEntry> entries = {
       {"kinect_v2", "Kinect v2 time of flight, 512 x 424 (seeds 000, 002)", KinectV2::create},
       {"d435", "RealSense D435 active stereo, 848 x 480 (seed 003)", D435::create},
+      {"stereo_rgb", "binocular colour stereo, 800 x 600, OSMesa images (seed 001)", StereoRgb::create},
       {"ideal", "noise-free pinhole rays, the control", IdealSensor::create},
   };
   return entries;

@@ -1,0 +1,262 @@
+#include "sensors/stereo_rgb.h"
+
+#include "sensors/ideal.h"
+#include "synth/mesh.h"
+#include "synth/rng.h"
+
+#include <GL/gl.h>
+#include <GL/osmesa.h>
+
+#include <cmath>
+#include <memory>
+
+namespace grapebench {
+
+namespace {
+
+// OSMesa context bound to an RGBA buffer; released on scope exit.
+struct OffscreenContext {
+  OSMesaContext ctx = nullptr;
+  std::vector<unsigned char> buffer;
+  OffscreenContext(int w, int h) : buffer(static_cast<std::size_t>(w) * h * 4) {
+    ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+    if (!ctx) throw InputError("stereo_rgb: cannot create an OSMesa context");
+    if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, w, h)) {
+      OSMesaDestroyContext(ctx);
+      throw InputError("stereo_rgb: cannot bind the OSMesa buffer");
+    }
+  }
+  ~OffscreenContext() { OSMesaDestroyContext(ctx); }
+  OffscreenContext(const OffscreenContext&) = delete;
+  OffscreenContext& operator=(const OffscreenContext&) = delete;
+};
+
+// Vertex arrays of the visible bunch surface: positions, smooth normals, colours.
+struct RenderMesh {
+  std::vector<float> position, normal, colour;
+  std::vector<unsigned> index;
+};
+
+RenderMesh render_mesh(const Bunch& bunch, int level) {
+  MeshOptions o;
+  o.sphere_subdivisions = level;
+  o.tube_sides = 24;
+  const TriMesh m = bunch_mesh(bunch, o);
+  RenderMesh r;
+  std::vector<Vec3> n(m.vertices.size(), Vec3::Zero());
+  std::vector<Rgb> c(m.vertices.size(), bunch.stem_colour);
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    if (m.face_internal[f]) continue;
+    const auto& t = m.faces[f];
+    const Vec3 fn = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
+    for (int k : t) {
+      n[k] += fn;  // area-weighted smooth normals (vertices are welded within a piece)
+      if (m.face_part[f] == Part::Berry) c[k] = bunch.berries[m.face_berry[f]].colour;
+    }
+    for (int k : t) r.index.push_back(static_cast<unsigned>(k));
+  }
+  for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+    const Vec3 nn = n[v].squaredNorm() > 0 ? n[v].normalized() : Vec3::UnitZ();
+    for (int k = 0; k < 3; ++k) {
+      r.position.push_back(static_cast<float>(m.vertices[v][k]));
+      r.normal.push_back(static_cast<float>(nn[k]));
+    }
+    r.colour.insert(r.colour.end(), {c[v].r, c[v].g, c[v].b});
+  }
+  return r;
+}
+
+// Procedural foliage: overlapping leaf-green blobs, deterministic in `seed`.
+std::vector<unsigned char> foliage_texture(int size, std::uint64_t seed) {
+  std::vector<float> img(static_cast<std::size_t>(size) * size * 3, 0.0f);
+  for (int i = 0; i < size * size; ++i) {
+    img[3 * i] = 0.10f;
+    img[3 * i + 1] = 0.22f;
+    img[3 * i + 2] = 0.08f;
+  }
+  Rng rng(seed);
+  for (int b = 0; b < 220; ++b) {
+    const double cx = rng.uniform(0, size), cy = rng.uniform(0, size), r = rng.uniform(6, 28);
+    const double shade = rng.uniform(0.6, 1.3);
+    const float col[3] = {static_cast<float>(0.16 * shade), static_cast<float>(0.38 * shade),
+                          static_cast<float>(0.10 * shade)};
+    for (int y = static_cast<int>(cy - r); y <= cy + r; ++y)
+      for (int x = static_cast<int>(cx - r); x <= cx + r; ++x) {
+        const double dx = x - cx, dy = (y - cy) * 1.6;  // leaf-like ellipses
+        if (dx * dx + dy * dy > r * r) continue;
+        const int xx = (x % size + size) % size, yy = (y % size + size) % size;
+        for (int k = 0; k < 3; ++k) img[3 * (yy * size + xx) + k] = col[k];
+      }
+  }
+  std::vector<unsigned char> out(img.size());
+  for (std::size_t i = 0; i < img.size(); ++i) out[i] = static_cast<unsigned char>(std::lround(std::clamp(img[i], 0.0f, 1.0f) * 255));
+  return out;
+}
+
+}  // namespace
+
+Intrinsics StereoRgb::intrinsics() const {
+  Intrinsics k;
+  k.width = p_.width;
+  k.height = p_.height;
+  k.fx = k.fy = p_.focal_length_mm * 1e-3 / (p_.pixel_pitch_um * 1e-6);
+  k.cx = 0.5 * p_.width;
+  k.cy = 0.5 * p_.height;
+  return k;
+}
+
+OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const {
+  const Camera left{intrinsics(), pose};
+  Eigen::Isometry3d right_pose = pose;
+  right_pose.translation() = pose * Vec3(p_.baseline, 0, 0);
+  const Camera right{intrinsics(), right_pose};
+  OrganisedCloud out = capture_exact(scene, left);
+
+  const RenderMesh mesh = render_mesh(scene.bunch(), p_.mesh_level);
+  const int W = p_.width, H = p_.height;
+  const std::vector<unsigned char> texture = foliage_texture(256, derive_seed(seed, 1));
+  // A background square behind the bunch, facing the left camera.
+  const Vec3 view = pose.linear().col(2);
+  const Vec3 centre = scene.bounds_centre() + p_.background_distance * view;
+  const Vec3 bx = pose.linear().col(0), by = pose.linear().col(1);
+  const double half = 3.0;  // m: fills any view of this rig
+
+  OffscreenContext gl(W, H);
+  auto render = [&](const Camera& cam, std::vector<std::uint8_t>& image, std::uint64_t noise_seed) {
+    const double n = 0.05, f = 20.0;
+    glViewport(0, 0, W, H);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    // OpenCV intrinsics as a frustum; OpenGL's y points up, so top uses cy.
+    glFrustum(-cam.K.cx * n / cam.K.fx, (W - cam.K.cx) * n / cam.K.fx, -(H - cam.K.cy) * n / cam.K.fy,
+              cam.K.cy * n / cam.K.fy, n, f);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    const GLfloat light_pos[4] = {0.2f, 0.5f, 0.0f, 1.0f};  // near the camera, a little above
+    const GLfloat white[4] = {1, 1, 1, 1}, dim[4] = {0.25f, 0.25f, 0.25f, 1};
+    const GLfloat spec[4] = {static_cast<GLfloat>(p_.specular), static_cast<GLfloat>(p_.specular),
+                             static_cast<GLfloat>(p_.specular), 1};
+    glLightfv(GL_LIGHT0, GL_POSITION, light_pos);
+    glLightfv(GL_LIGHT0, GL_DIFFUSE, white);
+    glLightfv(GL_LIGHT0, GL_SPECULAR, white);
+    glLightModelfv(GL_LIGHT_MODEL_AMBIENT, dim);
+    // World to OpenGL eye: OpenCV camera frame with y and z flipped.
+    Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+    M(1, 1) = -1;
+    M(2, 2) = -1;
+    const Eigen::Matrix4d view_m = M * cam.pose.inverse().matrix();
+    glLoadMatrixd(view_m.data());  // column-major, as OpenGL wants
+    glEnable(GL_DEPTH_TEST);
+
+    // Background.
+    glDisable(GL_LIGHTING);
+    if (p_.background == "foliage") {
+      GLuint tex = 0;
+      glGenTextures(1, &tex);
+      glBindTexture(GL_TEXTURE_2D, tex);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, 256, 256, 0, GL_RGB, GL_UNSIGNED_BYTE, texture.data());
+      glEnable(GL_TEXTURE_2D);
+      glColor3f(1, 1, 1);
+    } else {
+      glColor3f(p_.plain_colour.r, p_.plain_colour.g, p_.plain_colour.b);
+    }
+    glBegin(GL_QUADS);
+    const double reps = 8;
+    const Vec3 corners[4] = {centre - half * bx - half * by, centre + half * bx - half * by,
+                             centre + half * bx + half * by, centre - half * bx + half * by};
+    const double uv[4][2] = {{0, 0}, {reps, 0}, {reps, reps}, {0, reps}};
+    for (int k = 0; k < 4; ++k) {
+      glTexCoord2d(uv[k][0], uv[k][1]);
+      glVertex3d(corners[k].x(), corners[k].y(), corners[k].z());
+    }
+    glEnd();
+    glDisable(GL_TEXTURE_2D);
+
+    // Bunch: smooth Phong-lit surface, colours per vertex, specular highlights.
+    glEnable(GL_LIGHTING);
+    glEnable(GL_LIGHT0);
+    glEnable(GL_NORMALIZE);
+    glShadeModel(GL_SMOOTH);
+    glEnable(GL_COLOR_MATERIAL);
+    glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+    glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, spec);
+    glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, static_cast<GLfloat>(p_.shininess));
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_NORMAL_ARRAY);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, mesh.position.data());
+    glNormalPointer(GL_FLOAT, 0, mesh.normal.data());
+    glColorPointer(3, GL_FLOAT, 0, mesh.colour.data());
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh.index.size()), GL_UNSIGNED_INT, mesh.index.data());
+    glDisableClientState(GL_VERTEX_ARRAY);
+    glDisableClientState(GL_NORMAL_ARRAY);
+    glDisableClientState(GL_COLOR_ARRAY);
+    glFinish();
+    if (glGetError() != GL_NO_ERROR) throw InputError("stereo_rgb: OpenGL error while rendering");
+
+    // OSMesa's row 0 is the bottom; images are stored top row first. Sensor noise.
+    image.resize(static_cast<std::size_t>(W) * H * 3);
+    const double sd = 2.0 * p_.noise_scale;
+    for (int y = 0; y < H; ++y) {
+      const unsigned char* src = gl.buffer.data() + static_cast<std::size_t>(H - 1 - y) * W * 4;
+      for (int x = 0; x < W; ++x) {
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t i = (static_cast<std::size_t>(y) * W + x) * 3 + k;
+          const double v = src[4 * x + k] + sd * hashed_normal(noise_seed, i);
+          image[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+        }
+      }
+    }
+  };
+  render(left, out.left_image, derive_seed(seed, 2));
+  render(right, out.right_image, derive_seed(seed, 3));
+  // The cloud's colours are the left image's.
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (out.valid[i]) out.rgb[i] = {out.left_image[3 * i], out.left_image[3 * i + 1], out.left_image[3 * i + 2]};
+  }
+  return out;
+}
+
+nlohmann::ordered_json StereoRgb::describe() const {
+  const Intrinsics k = intrinsics();
+  return {{"type", type()},
+          {"width", p_.width},
+          {"height", p_.height},
+          {"focal_length_mm", p_.focal_length_mm},
+          {"pixel_pitch_um", p_.pixel_pitch_um},
+          {"fx_px", k.fx},
+          {"baseline_m", p_.baseline},
+          {"background", p_.background},
+          {"background_distance_m", p_.background_distance},
+          {"specular", p_.specular},
+          {"shininess", p_.shininess},
+          {"mesh_level", p_.mesh_level},
+          {"noise_scale", p_.noise_scale},
+          {"renderer", "OSMesa (fixed-function OpenGL)"}};
+}
+
+std::unique_ptr<Sensor> StereoRgb::create(const ConfigNode& n) {
+  StereoRgbParams p;
+  p.width = static_cast<int>(n.get_int("width", p.width, 64, 4096));
+  p.height = static_cast<int>(n.get_int("height", p.height, 64, 4096));
+  p.focal_length_mm = n.get_real("focal_length_mm", p.focal_length_mm, 1, 100);
+  p.pixel_pitch_um = n.get_real("pixel_pitch_um", p.pixel_pitch_um, 1, 50);
+  p.baseline = n.get_real("baseline", p.baseline, 0.01, 1);
+  p.background = n.get_choice("background", p.background, {"foliage", "plain"});
+  if (n.has("plain_colour")) {
+    const auto c = n.get_real_list("plain_colour", 3, 0, 1);
+    p.plain_colour = {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
+  }
+  p.background_distance = n.get_real("background_distance", p.background_distance, 0.05, 10);
+  p.specular = n.get_real("specular", p.specular, 0, 1);
+  p.shininess = n.get_real("shininess", p.shininess, 1, 128);
+  p.mesh_level = static_cast<int>(n.get_int("mesh_level", p.mesh_level, 1, 5));
+  p.noise_scale = n.get_real("noise_scale", p.noise_scale, 0, 20);
+  return std::make_unique<StereoRgb>(p);
+}
+
+}  // namespace grapebench

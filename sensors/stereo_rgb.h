@@ -1,0 +1,40 @@
+// Binocular colour stereo rig of seed 001: two rectified 800 x 600 colour cameras,
+// 6 mm lenses, 5 cm baseline. Left and right images are rendered with OSMesa from
+// the bunch's triangle mesh (smooth shading, specular highlights, berry colours,
+// plain or foliage background); the organised cloud of the left camera carries the
+// exact depth and labels from the ray scene, so estimators that match the images
+// can be scored pixel by pixel.
+#pragma once
+
+#include "sensors/sensor.h"
+
+namespace grapebench {
+
+struct StereoRgbParams {
+  int width = 800, height = 600;  // pixels (seed 001: 600 x 800), [64, 4096]
+  double focal_length_mm = 6.0;   // seed 001: 6 mm lens, [1, 100]
+  double pixel_pitch_um = 6.0;    // assumed (not stated in seed 001): 1000 px focal length, [1, 50]
+  double baseline = 0.05;         // m, seed 001: 5 cm, [0.01, 1]
+  std::string background = "foliage";  // foliage | plain
+  Rgb plain_colour{0.55f, 0.6f, 0.65f};
+  double background_distance = 0.4;  // m behind the bunch, [0.05, 10]
+  double specular = 0.5;             // specular strength, [0, 1]
+  double shininess = 40;             // Phong exponent, [1, 128]
+  int mesh_level = 3;                // icosphere level of the rendered berries, [1, 5]
+  double noise_scale = 1.0;          // image noise sd = 2/255 * noise_scale, [0, 20]
+};
+
+class StereoRgb : public Sensor {
+ public:
+  explicit StereoRgb(const StereoRgbParams& p) : p_(p) {}
+  static std::unique_ptr<Sensor> create(const ConfigNode& node);
+  std::string type() const override { return "stereo_rgb"; }
+  Intrinsics intrinsics() const override;
+  OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override;
+  nlohmann::ordered_json describe() const override;
+
+ private:
+  StereoRgbParams p_;
+};
+
+}  // namespace grapebench
