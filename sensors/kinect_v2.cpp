@@ -15,8 +15,8 @@ Intrinsics KinectV2::intrinsics() const {
 
 double KinectV2::axial_sigma(double z, double theta) const {
   const double t = std::min(theta, 0.5 * M_PI - 1e-3);
-  const double mm = p_.axial_a0 + p_.axial_a1 * z + p_.axial_a2 * z * z +
-                    p_.axial_a3 * std::pow(z, 1.5) * t * t / std::pow(0.5 * M_PI - t, 2);
+  const double g = 0.5 * M_PI - t;
+  const double mm = p_.axial_a0 + p_.axial_a1 * z + p_.axial_a2 * z * z + p_.axial_a3 * z * std::sqrt(z) * t * t / (g * g);
   return std::max(0.0, mm) * 1e-3;
 }
 
@@ -54,35 +54,51 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
       const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
       rays.clear();
       jitter.assign(3 * static_cast<std::size_t>(W), 0.0);
+      // Inside the bunch's image rectangle a pixel's footprint is sampled by n x n rays;
+      // outside it only the plane can be seen, where the blend of returns from one
+      // plane is the centre ray's depth (to second order), so one ray suffices.
+      const int sub_a = row_sees ? bu0 : ub, sub_b = row_sees ? bu1 : ub;
       for (int u = ua; u < ub; ++u) {
         const std::uint64_t k = 3 * (static_cast<std::uint64_t>(v) * W + u);
         const double du = lateral * hashed_normal(seed, k), dv = lateral * hashed_normal(seed, k + 1);
         jitter[3 * u] = du;
         jitter[3 * u + 1] = dv;
         jitter[3 * u + 2] = hashed_normal(seed, k + 2);
-        for (int a = 0; a < n; ++a) {
-          for (int b = 0; b < n; ++b) rays.push_back(cam.ray(u + (b + 0.5) / n + du, v + (a + 0.5) / n + dv));
+        if (u >= sub_a && u < sub_b) {
+          for (int a = 0; a < n; ++a) {
+            for (int b = 0; b < n; ++b) rays.push_back(cam.ray(u + (b + 0.5) / n + du, v + (a + 0.5) / n + dv));
+          }
         }
       }
-      hits.resize(rays.size());
       const std::size_t nn = static_cast<std::size_t>(n) * n;
-      const std::size_t first = row_sees ? (bu0 - ua) * nn : rays.size();
-      const std::size_t last = row_sees ? (bu1 - ua) * nn : rays.size();
-      if (row_sees) {
-        scene.intersect(rays.data() + first, last - first, hits.data() + first);
-        rays_cast += last - first;
+      hits.resize(rays.size());
+      if (!rays.empty()) {
+        scene.intersect(rays.data(), rays.size(), hits.data());
+        rays_cast += rays.size();
       }
-      for (std::size_t i = 0; i < first; ++i) hits[i] = scene.background_hit(rays[i]);
-      for (std::size_t i = last; i < rays.size(); ++i) hits[i] = scene.background_hit(rays[i]);
       for (int u = ua; u < ub; ++u) {
         const std::size_t idx = static_cast<std::size_t>(v) * W + u;
-        const Hit* sub = &hits[static_cast<std::size_t>(u - ua) * nn];
-        const Ray* sray = &rays[static_cast<std::size_t>(u - ua) * nn];
+        const bool sampled = u >= sub_a && u < sub_b;
+        Hit plane_only;
+        Ray plane_ray;
+        const Hit* sub;
+        const Ray* sray;
+        int count = n * n;
+        if (sampled) {
+          sub = &hits[static_cast<std::size_t>(u - sub_a) * nn];
+          sray = &rays[static_cast<std::size_t>(u - sub_a) * nn];
+        } else {
+          plane_ray = cam.ray(u + 0.5 + jitter[3 * u], v + 0.5 + jitter[3 * u + 1]);
+          plane_only = scene.background_hit(plane_ray);
+          sub = &plane_only;
+          sray = &plane_ray;
+          count = 1;
+        }
         // ToF pixel: sum of the returns' phasors, amplitude albedo cos(theta) / r^2.
         int dominant = -1, returns = 0;
         double wmax = 0;
         double w[64] = {};  // n <= 8
-        for (int s = 0; s < n * n; ++s) {
+        for (int s = 0; s < count; ++s) {
           if (!sub[s].valid()) continue;
           ++returns;
           const double cos_t = std::max(0.0, -sub[s].normal.dot(sray[s].direction));
@@ -93,13 +109,16 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
             dominant = s;
           }
         }
-        if (dominant < 0 || static_cast<double>(returns) / (n * n) < p_.min_amplitude) continue;
+        if (dominant < 0 || static_cast<double>(returns) / count < p_.min_amplitude) continue;
         const Hit& dom = sub[dominant];
-        std::complex<double> sum = 0;
-        for (int s = 0; s < n * n; ++s) {
-          if (w[s] > 0) sum += w[s] * std::polar(1.0, k_phase * (sub[s].t - dom.t));
+        double radial = dom.t;
+        if (returns > 1) {
+          std::complex<double> sum = 0;
+          for (int s = 0; s < count; ++s) {
+            if (w[s] > 0) sum += w[s] * std::polar(1.0, k_phase * (sub[s].t - dom.t));
+          }
+          radial += std::arg(sum) / k_phase;
         }
-        const double radial = dom.t + std::arg(sum) / k_phase;
         // The pixel's footprint centre (lateral jitter included).
         const Ray centre = cam.ray(u + 0.5 + jitter[3 * u], v + 0.5 + jitter[3 * u + 1]);
         const Vec3 dir_cam = to_cam * centre.direction;

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -51,6 +52,22 @@ TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
   EXPECT_NE(r.out.find("unknown parameter 'nonsense'"), std::string::npos) << r.out;
   r = run_cli("synth " GRAPEBENCH_SOURCE_DIR "/CMakeLists.txt --out /tmp/grapebench_cli_test");
   EXPECT_NE(r.status, 0) << r.out;
+}
+
+TEST(Cli, ScanWritesEveryFileOfEveryView) {
+  const std::string out = "/tmp/grapebench_cli_scan";
+  std::filesystem::remove_all(out);
+  const CommandResult r = run_cli("scan " GRAPEBENCH_SOURCE_DIR "/scenes/seed002_kinect_bottom.yaml --bunch 1 --out " + out);
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::string dir = out + "/seed002_kinect_bottom/bunch_0001/";
+  EXPECT_TRUE(std::filesystem::exists(dir + "ground_truth.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "bunch_0001_scan.json"));
+  for (const char* view : {"view_00", "view_07", "bottom"}) {
+    for (const char* ext : {".pcd", ".ply", "_depth.png", "_rgb.png", "_label.png"}) {
+      EXPECT_TRUE(std::filesystem::exists(dir + "bunch_0001_" + view + ext)) << view << ext;
+    }
+  }
+  EXPECT_EQ(run_cli("scan --help").out.find("kinect_v2") != std::string::npos, true);
 }
 
 TEST(Cli, RunOnTheDefaultSuiteSummarises) {

@@ -50,6 +50,34 @@ TEST(Scene, EveryKindOfErrorNamesFileLineAndKey) {
   EXPECT_NE(m.find("scene.yaml:"), std::string::npos) << m;
 }
 
+TEST(Scene, SensorRigAndBackgroundSectionsAreStrict) {
+  const Scene ok = parse_scene(
+      "seed: 1\nbunches:\n  - preset: wine-red\nsensor:\n  type: d435\n  noise_scale: 2\nrig:\n  type: robot_pass\n"
+      "  frames: 2\nbackground:\n  type: cloth\n",
+      "s.yaml");
+  ASSERT_TRUE(ok.sensor && ok.rig);
+  EXPECT_EQ(ok.sensor->type(), "d435");
+  EXPECT_EQ(ok.rig->type(), "robot_pass");
+  EXPECT_EQ(ok.background.type, "cloth");
+  // Unknown sensor type names the allowed ones.
+  auto m = error_of("seed: 1\nbunches:\n  - preset: wine-red\nsensor:\n  type: lidar\n");
+  EXPECT_NE(m.find("scene.yaml:5"), std::string::npos) << m;
+  EXPECT_NE(m.find("allowed: kinect_v2, d435, stereo_rgb, ideal"), std::string::npos) << m;
+  // Out-of-range sensor parameter.
+  m = error_of("seed: 1\nbunches:\n  - preset: wine-red\nsensor:\n  type: kinect_v2\n  noise_scale: -1\n");
+  EXPECT_NE(m.find("scene.yaml:6"), std::string::npos) << m;
+  EXPECT_NE(m.find("sensor.noise_scale"), std::string::npos) << m;
+  EXPECT_NE(m.find("[0, 20]"), std::string::npos) << m;
+  // Unknown rig key, bad boolean.
+  m = error_of("seed: 1\nbunches:\n  - preset: wine-red\nsensor:\n  type: ideal\nrig:\n  type: turntable\n  vews: 3\n");
+  EXPECT_NE(m.find("scene.yaml:8: unknown key 'rig.vews'"), std::string::npos) << m;
+  m = error_of("seed: 1\nbunches:\n  - preset: wine-red\nsensor:\n  type: ideal\nrig:\n  bottom_view: maybe\n");
+  EXPECT_NE(m.find("expected true or false"), std::string::npos) << m;
+  // A rig without a sensor.
+  m = error_of("seed: 1\nbunches:\n  - preset: wine-red\nrig:\n  type: turntable\n");
+  EXPECT_NE(m.find("needs a `sensor:` section"), std::string::npos) << m;
+}
+
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::ostringstream s;
