@@ -47,7 +47,7 @@ for view in ["view_00", "view_03", "view_06"]:
     rows.append(np.concatenate([rgb[crop], depth[crop], palette[lab][crop]], 1))
 save(f"{dst}/kinect_views.png", np.kron(np.concatenate(rows, 0), np.ones((2, 2, 1))))
 
-merged, colours = [], []
+merged, colours, normals = [], [], []
 for v in manifest["views"]:
     pcd = o3d.io.read_point_cloud(f"{base}/{v['files'][1]}")
     T = np.array(v["camera_to_world"])
@@ -55,15 +55,20 @@ for v in manifest["views"]:
     keep = np.linalg.norm(p[:, :2], axis=1) < 0.15  # the bunch, not the plate
     merged.append(p[keep])
     colours.append(np.asarray(pcd.colors)[keep])
+    normals.append((np.asarray(pcd.normals) @ T[:3, :3].T)[keep])
 p, c = np.concatenate(merged), np.concatenate(colours)
 W, H, s = 400, 520, 0.30 / 520
 img = np.full((H, W, 3), 255.0)
 zbuf = np.full((H, W), np.inf)
 u = ((p[:, 0] - p[:, 0].mean()) / s + W / 2).astype(int)
 v = ((p[:, 2].max() + 0.02 - p[:, 2]) / s).astype(int)
+light = 0.55 + 0.45 * np.clip(-np.concatenate(normals)[:, 1], 0, 1)
 for k in np.argsort(p[:, 1])[::-1]:
-    if 0 <= u[k] < W and 0 <= v[k] < H and p[k, 1] < zbuf[v[k], u[k]]:
-        zbuf[v[k], u[k]] = p[k, 1]
-        img[v[k], u[k]] = c[k] * 255
+    for du in (0, 1):
+        for dv in (0, 1):
+            x, y = u[k] + du, v[k] + dv
+            if 0 <= x < W and 0 <= y < H and p[k, 1] < zbuf[y, x]:
+                zbuf[y, x] = p[k, 1]
+                img[y, x] = np.clip(c[k] * 255 * light[k] * 1.6, 0, 255)
 save(f"{dst}/kinect_merged.png", img)
 print("wrote", dst)

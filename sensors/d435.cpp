@@ -38,16 +38,7 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
       const bool plane = scene.background().has_value();
       if (!row_sees_bunch && !plane) continue;  // nothing can return light
       const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
-      rays.resize(W);
-      hits.resize(W);
-      for (int u = ua; u < ub; ++u) rays[u] = cam.ray(u + 0.5, v + 0.5);
-      for (int u = ua; u < ub; ++u) {
-        if (!(row_sees_bunch && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(rays[u]);
-      }
-      if (row_sees_bunch) {
-        scene.intersect(rays.data() + bu0, bu1 - bu0, hits.data() + bu0);
-        rays_cast += bu1 - bu0;
-      }
+      rays_cast += trace_row(scene, cam, v, ua, ub, bu0, bu1, row_sees_bunch, rays, hits);
       // Occlusion shadows: the point must be seen by the right imager and lit by
       // the projector; only segments that can cross the bunch are traced.
       from.clear();

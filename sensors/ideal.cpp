@@ -26,16 +26,7 @@ OrganisedCloud capture_exact(const RayScene& scene, const Camera& cam) {
       const bool plane = scene.background().has_value();
       if (!row && !plane) continue;  // nothing can return light
       const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
-      rays.resize(W);
-      hits.resize(W);
-      for (int u = ua; u < ub; ++u) rays[u] = cam.ray(u + 0.5, v + 0.5);
-      for (int u = ua; u < ub; ++u) {
-        if (!(row && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(rays[u]);
-      }
-      if (row) {
-        scene.intersect(rays.data() + bu0, bu1 - bu0, hits.data() + bu0);
-        rays_cast += bu1 - bu0;
-      }
+      rays_cast += trace_row(scene, cam, v, ua, ub, bu0, bu1, row, rays, hits);
       for (int u = ua; u < ub; ++u) {
         const Hit& h = hits[u];
         if (!h.valid()) continue;

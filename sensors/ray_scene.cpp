@@ -119,6 +119,28 @@ void stem_occluded(const RTCOccludedFunctionNArguments* args) {
 }
 
 
+// Loads up to 16 rays into a packet; lanes past `n` are masked off.
+void load_packet(const Ray* rays, std::size_t n, RTCRayHit16& rh, int* valid) {
+  for (std::size_t k = 0; k < 16; ++k) {
+    valid[k] = k < n ? -1 : 0;
+    const Ray& r = rays[std::min(k, n - 1)];
+    rh.ray.org_x[k] = static_cast<float>(r.origin.x());
+    rh.ray.org_y[k] = static_cast<float>(r.origin.y());
+    rh.ray.org_z[k] = static_cast<float>(r.origin.z());
+    rh.ray.dir_x[k] = static_cast<float>(r.direction.x());
+    rh.ray.dir_y[k] = static_cast<float>(r.direction.y());
+    rh.ray.dir_z[k] = static_cast<float>(r.direction.z());
+    rh.ray.tnear[k] = 0;
+    rh.ray.tfar[k] = INFINITY;
+    rh.ray.time[k] = 0;
+    rh.ray.mask[k] = 0xFFFFFFFFu;  // Debian's Embree has ray masks enabled
+    rh.ray.flags[k] = 0;
+    rh.ray.id[k] = static_cast<unsigned>(k);
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+  }
+}
+
 }  // namespace
 
 RayScene::State::~State() {
@@ -249,24 +271,7 @@ void RayScene::intersect(const Ray* rays, std::size_t count, Hit* hits, bool bun
   alignas(64) int valid[16];
   for (std::size_t base = 0; base < count; base += 16) {
     const std::size_t n = std::min<std::size_t>(16, count - base);
-    for (std::size_t k = 0; k < 16; ++k) {
-      valid[k] = k < n ? -1 : 0;
-      const Ray& r = rays[base + std::min(k, n - 1)];
-      rh.ray.org_x[k] = static_cast<float>(r.origin.x());
-      rh.ray.org_y[k] = static_cast<float>(r.origin.y());
-      rh.ray.org_z[k] = static_cast<float>(r.origin.z());
-      rh.ray.dir_x[k] = static_cast<float>(r.direction.x());
-      rh.ray.dir_y[k] = static_cast<float>(r.direction.y());
-      rh.ray.dir_z[k] = static_cast<float>(r.direction.z());
-      rh.ray.tnear[k] = 0;
-      rh.ray.tfar[k] = INFINITY;
-      rh.ray.time[k] = 0;
-      rh.ray.mask[k] = 0xFFFFFFFFu;  // Debian's Embree has ray masks enabled
-      rh.ray.flags[k] = 0;
-      rh.ray.id[k] = static_cast<unsigned>(k);
-      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-    }
+    load_packet(rays + base, n, rh, valid);
     rtcIntersect16(valid, state_->scene, &context, &rh);
     for (std::size_t k = 0; k < n; ++k) {
       const Ray& r = rays[base + k];
@@ -339,24 +344,7 @@ std::size_t RayScene::raw_intersect_count(const std::vector<Ray>& rays) const {
   std::size_t hits = 0;
   for (std::size_t base = 0; base < rays.size(); base += 16) {
     const std::size_t n = std::min<std::size_t>(16, rays.size() - base);
-    for (std::size_t k = 0; k < 16; ++k) {
-      valid[k] = k < n ? -1 : 0;
-      const Ray& r = rays[base + std::min(k, n - 1)];
-      rh.ray.org_x[k] = static_cast<float>(r.origin.x());
-      rh.ray.org_y[k] = static_cast<float>(r.origin.y());
-      rh.ray.org_z[k] = static_cast<float>(r.origin.z());
-      rh.ray.dir_x[k] = static_cast<float>(r.direction.x());
-      rh.ray.dir_y[k] = static_cast<float>(r.direction.y());
-      rh.ray.dir_z[k] = static_cast<float>(r.direction.z());
-      rh.ray.tnear[k] = 0;
-      rh.ray.tfar[k] = INFINITY;
-      rh.ray.time[k] = 0;
-      rh.ray.mask[k] = 0xFFFFFFFFu;
-      rh.ray.flags[k] = 0;
-      rh.ray.id[k] = static_cast<unsigned>(k);
-      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-    }
+    load_packet(rays.data() + base, n, rh, valid);
     rtcIntersect16(valid, state_->scene, &context, &rh);
     for (std::size_t k = 0; k < n; ++k) hits += rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
   }

@@ -38,6 +38,19 @@ std::array<std::uint8_t, 3> shade(const Rgb& c, const Vec3& normal, const Vec3& 
   return {byte(c.r), byte(c.g), byte(c.b)};
 }
 
+std::size_t trace_row(const RayScene& scene, const Camera& cam, int v, int ua, int ub, int bu0, int bu1,
+                      bool sees_bunch, std::vector<Ray>& rays, std::vector<Hit>& hits) {
+  rays.resize(cam.K.width);
+  hits.resize(cam.K.width);
+  for (int u = ua; u < ub; ++u) rays[u] = cam.ray(u + 0.5, v + 0.5);
+  for (int u = ua; u < ub; ++u) {
+    if (!(sees_bunch && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(rays[u]);
+  }
+  if (!sees_bunch) return 0;
+  scene.intersect(rays.data() + bu0, bu1 - bu0, hits.data() + bu0);
+  return static_cast<std::size_t>(bu1 - bu0);
+}
+
 void for_rows(int height, const std::function<void(int, int)>& body) {
   const int block = 8;
   tbb::parallel_for(0, (height + block - 1) / block, [&](int b) {

@@ -51,6 +51,10 @@ inline double point_segment_distance_sq(const Vec3& p, const Vec3& a, const Vec3
   const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
   return (p - (a + t * ab)).squaredNorm();
 }
+// One ray per pixel centre of row v over pixels [ua, ub): Embree for [bu0, bu1) when
+// `sees_bunch`, the analytic background elsewhere. Returns the rays traced by Embree.
+std::size_t trace_row(const RayScene& scene, const Camera& cam, int v, int ua, int ub, int bu0, int bu1,
+                      bool sees_bunch, std::vector<Ray>& rays, std::vector<Hit>& hits);
 // Parallel loop over image rows in fixed blocks (deterministic result).
 void for_rows(int height, const std::function<void(int v0, int v1)>& body);
 
