@@ -152,8 +152,8 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
 
     // Background.
     glDisable(GL_LIGHTING);
+    GLuint tex = 0;
     if (p_.background == "foliage") {
-      GLuint tex = 0;
       glGenTextures(1, &tex);
       glBindTexture(GL_TEXTURE_2D, tex);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -175,6 +175,7 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
     }
     glEnd();
     glDisable(GL_TEXTURE_2D);
+    if (tex) glDeleteTextures(1, &tex);
 
     // Bunch: smooth Phong-lit surface, colours per vertex, specular highlights.
     glEnable(GL_LIGHTING);
