@@ -28,8 +28,9 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
   std::atomic<std::uint64_t> rays_cast{0};
 
   for_rows(H, [&](int r0, int r1) {
-    std::vector<Ray> rays;
-    std::vector<Hit> hits;
+    // Per-thread buffers, reused across rows and frames (no page faults per block).
+    thread_local std::vector<Ray> rays;
+    thread_local std::vector<Hit> hits;
     std::vector<Vec3> from, to;
     std::vector<std::size_t> who;
     std::vector<char> blocked, shadow;

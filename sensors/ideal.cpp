@@ -19,8 +19,9 @@ OrganisedCloud capture_exact(const RayScene& scene, const Camera& cam) {
   out.resize(W, H);
   std::atomic<std::uint64_t> rays_cast{0};
   for_rows(H, [&](int r0, int r1) {
-    std::vector<Ray> rays;
-    std::vector<Hit> hits;
+    // Per-thread buffers, reused across rows and frames (no page faults per block).
+    thread_local std::vector<Ray> rays;
+    thread_local std::vector<Hit> hits;
     for (int v = r0; v < r1; ++v) {
       const bool row = bunch_visible && v >= bv0 && v < bv1;
       const bool plane = scene.background().has_value();

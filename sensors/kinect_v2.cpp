@@ -42,8 +42,9 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
   const Eigen::Matrix3d to_cam = pose.linear().transpose();
 
   for_rows(H, [&](int r0, int r1) {
-    std::vector<Ray> rays;
-    std::vector<Hit> hits;
+    // Per-thread buffers, reused across rows and frames (no page faults per block).
+    thread_local std::vector<Ray> rays;
+    thread_local std::vector<Hit> hits;
     std::vector<double> jitter;  // per pixel: du, dv, axial normal draw
     for (int v = r0; v < r1; ++v) {
       // Pixels that can see the bunch go through Embree; with a background plane the

@@ -8,6 +8,7 @@
 #include "synth/generate.h"
 
 #include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 
 #include <memory>
 
@@ -58,6 +59,8 @@ std::vector<Ray> traced_rays(const Sensor& s, const Eigen::Isometry3d& pose, int
 }
 
 void BM_Sensor(benchmark::State& state, std::string sensor_type, std::string rig_type) {
+  // One thread, like the raw loop it is compared with.
+  tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   const auto s = sensor(sensor_type);
   const auto r = rig(rig_type);
   std::uint64_t rays = 0;
