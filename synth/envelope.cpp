@@ -33,6 +33,27 @@ Mesh hull_of(const std::vector<Vec3>& points) {
 
 Vec3 to_vec(const Kernel::Point_3& p) { return {p.x(), p.y(), p.z()}; }
 
+// Exact rational sum of the facet tetrahedra: the exact volume does not depend on
+// CGAL's facet order or on how coplanar points were triangulated, so its rounding
+// is the same in every run and on every thread.
+double exact_volume(const Mesh& m) {
+  using Q = CGAL::Exact_rational;
+  Q six_volume = 0;
+  for (auto f : m.faces()) {
+    std::array<std::array<Q, 3>, 3> v;
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
+      const auto& p = m.point(m.target(h));
+      v[k++] = {Q(p.x()), Q(p.y()), Q(p.z())};
+    }
+    six_volume += v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[2][1]) -
+                  v[0][1] * (v[1][0] * v[2][2] - v[1][2] * v[2][0]) +
+                  v[0][2] * (v[1][0] * v[2][1] - v[1][1] * v[2][0]);
+  }
+  return CGAL::to_double(six_volume / 6);
+}
+
+
 // Unit-sphere sample (spherical Fibonacci lattice) and the inradius of its hull:
 // the hull contains the ball of that radius, so scaling the sample by its inverse
 // gives a polytope containing the unit sphere.
@@ -71,23 +92,25 @@ double convex_hull_volume(const std::vector<Vec3>& points, double* min_facet_dis
     }
     *min_facet_distance = best;
   }
-  // Exact rational sum of the facet tetrahedra: the exact volume does not depend on
-  // CGAL's facet order or on how coplanar points were triangulated, so its rounding
-  // is the same in every run and on every thread.
-  using Q = CGAL::Exact_rational;
-  Q six_volume = 0;
-  for (auto f : m.faces()) {
-    std::array<std::array<Q, 3>, 3> v;
-    int k = 0;
-    for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) {
-      const auto& p = m.point(m.target(h));
-      v[k++] = {Q(p.x()), Q(p.y()), Q(p.z())};
-    }
-    six_volume += v[0][0] * (v[1][1] * v[2][2] - v[1][2] * v[2][1]) -
-                  v[0][1] * (v[1][0] * v[2][2] - v[1][2] * v[2][0]) +
-                  v[0][2] * (v[1][0] * v[2][1] - v[1][1] * v[2][0]);
+  return exact_volume(m);
+}
+
+HullMesh convex_hull(const std::vector<Vec3>& points) {
+  const Mesh m = hull_of(points);
+  HullMesh out;
+  std::vector<int> index(m.number_of_vertices(), -1);
+  for (auto v : m.vertices()) {
+    index[v.idx()] = static_cast<int>(out.vertices.size());
+    out.vertices.push_back(to_vec(m.point(v)));
   }
-  return CGAL::to_double(six_volume / 6);
+  for (auto f : m.faces()) {
+    std::array<int, 3> t{};
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(m.halfedge(f), m)) t[k++] = index[m.target(h).idx()];
+    out.triangles.push_back(t);
+  }
+  out.volume = exact_volume(m);
+  return out;
 }
 
 std::vector<Eigen::Vector4d> convex_hull_planes(const std::vector<Vec3>& points) {

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include <array>
+
 #include <vector>
 
 namespace grapebench {
@@ -57,6 +59,16 @@ struct GroundTruth {
 
 VolumeTerms solid_volume_terms(const Bunch& bunch);
 GroundTruth compute_ground_truth(const Bunch& bunch, double density_g_cm3);
+
+// Convex hull of points (CGAL quickhull) as a closed triangle mesh with its volume,
+// summed in exact rationals (independent of facet order). Throws InputError for fewer
+// than 4 points, non-finite points or a flat set.
+struct HullMesh {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<int, 3>> triangles;  // outward, counter-clockwise
+  double volume = 0;                          // m3
+};
+HullMesh convex_hull(const std::vector<Vec3>& points);
 
 // Convex hull volume of points (CGAL); min_facet_distance, when given, receives the
 // smallest distance from `origin` to a hull facet plane. Throws InputError for fewer

@@ -1,0 +1,227 @@
+// Every estimator on analytic shapes with known answers (densely sampled surfaces,
+// no noise), and on degenerate input.
+#include "algorithms/convex_hull_volume.h"
+#include "algorithms/cylinder_model_volume.h"
+#include "algorithms/pca_box.h"
+#include "algorithms/voxel_volume.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+
+namespace grapebench {
+namespace {
+
+std::vector<Vec3> fibonacci(int n) {
+  std::vector<Vec3> p;
+  const double g = M_PI * (3 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1 - (2.0 * i + 1) / n, r = std::sqrt(1 - z * z);
+    p.emplace_back(r * std::cos(g * i), r * std::sin(g * i), z);
+  }
+  return p;
+}
+
+struct Shape {
+  std::string name;
+  std::vector<Vec3> surface;
+  double volume;       // exact solid volume, m3
+  double hull_volume;  // exact convex hull volume, m3
+};
+
+Shape sphere() {
+  const double R = 0.05;
+  std::vector<Vec3> p;
+  for (const auto& u : fibonacci(40000)) p.push_back(R * u);
+  const double v = 4.0 / 3.0 * M_PI * R * R * R;
+  return {"sphere", p, v, v};
+}
+
+Shape ellipsoid() {
+  const Vec3 abc(0.06, 0.04, 0.03);
+  std::vector<Vec3> p;
+  for (const auto& u : fibonacci(40000)) p.push_back(u.cwiseProduct(abc));
+  const double v = 4.0 / 3.0 * M_PI * abc.prod();
+  return {"ellipsoid", p, v, v};
+}
+
+Shape capped_cylinder() {
+  const double r = 0.03, h = 0.12;
+  std::vector<Vec3> p;
+  const int around = 3600, along = 120, rings = 30;
+  for (int k = 0; k < around; ++k) {
+    const double a = 2 * M_PI * k / around;
+    for (int j = 0; j <= along; ++j) p.emplace_back(r * std::cos(a), r * std::sin(a), h * j / along - h / 2);
+    if (k % 10 == 0) {
+      for (int j = 1; j < rings; ++j) {
+        for (double z : {-h / 2, h / 2}) p.emplace_back(r * j / rings * std::cos(a), r * j / rings * std::sin(a), z);
+      }
+    }
+  }
+  const double v = M_PI * r * r * h;
+  return {"capped_cylinder", p, v, v};
+}
+
+Shape two_spheres() {
+  const double R = 0.04, d = 0.06;  // centres at +-d/2 on x, overlapping
+  std::vector<Vec3> p;
+  for (double s : {-1.0, 1.0}) {
+    const Vec3 c(s * d / 2, 0, 0), other(-s * d / 2, 0, 0);
+    for (const auto& u : fibonacci(40000)) {
+      const Vec3 x = c + R * u;
+      if ((x - other).norm() >= R) p.push_back(x);
+    }
+  }
+  const double h = R - d / 2;  // cap height of each ball inside the other
+  const double lens = 2 * M_PI * h * h * (3 * R - h) / 3;
+  return {"two_spheres", p, 2 * 4.0 / 3.0 * M_PI * R * R * R - lens, 4.0 / 3.0 * M_PI * R * R * R + M_PI * R * R * d};
+}
+
+Shape box() {
+  const Vec3 e(0.10, 0.06, 0.04);
+  std::vector<Vec3> p;
+  const int n = 100;
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (double s : {-0.5, 0.5}) {
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+          Vec3 x;
+          x[a] = s * e[a];
+          x[b] = (static_cast<double>(i) / n - 0.5) * e[b];
+          x[c] = (static_cast<double>(j) / n - 0.5) * e[c];
+          p.push_back(x);
+        }
+    }
+  }
+  return {"box", p, e.prod(), e.prod()};
+}
+
+// One estimator on one shape: the answer the shape's geometry gives, and the
+// documented tolerance (relative).
+struct Case {
+  std::string estimator;
+  std::function<Shape()> shape;
+  std::function<double(const Shape&)> expected;
+  double tolerance;
+};
+
+double estimate(const std::string& name, const PointCloud& c) {
+  if (name == "CH") return convex_hull_volume(c).volume;
+  if (name == "GM") return cylinder_model_volume(c).volume;
+  if (name == "VB") {
+    const VolumeEstimate v = voxel_volume(c, {0.002, true, 2e8});
+    if (!v.watertight) throw std::runtime_error("VB shell not closed: " + v.notes);
+    return v.volume;
+  }
+  if (name == "PCA-box") return pca_box(c).volume();
+  throw std::logic_error("unknown estimator " + name);
+}
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.estimator << " on " << c.shape().name; }
+
+class AnalyticShapes : public ::testing::TestWithParam<Case> {};
+
+TEST_P(AnalyticShapes, EstimateMatchesKnownAnswer) {
+  const Case& k = GetParam();
+  const Shape s = k.shape();
+  const double got = estimate(k.estimator, to_point_cloud(s.surface)), want = k.expected(s);
+  std::printf("[estimator] %-8s %-16s estimate %.4f cm3, expected %.4f cm3, error %+.3f %%\n", k.estimator.c_str(),
+              s.name.c_str(), got * 1e6, want * 1e6, 100 * (got / want - 1));
+  EXPECT_NEAR(got / want, 1.0, k.tolerance);
+}
+
+const auto hull = [](const Shape& s) { return s.hull_volume; };
+const auto solid = [](const Shape& s) { return s.volume; };
+
+INSTANTIATE_TEST_SUITE_P(
+    Seed000Estimators, AnalyticShapes,
+    ::testing::Values(
+        // CH: the hull of the samples is inscribed in the true hull: below it by
+        // O(spacing^2 / R); documented tolerance 0.5 % (sphere: the issue asks 2 %).
+        Case{"CH", sphere, hull, 0.005}, Case{"CH", ellipsoid, hull, 0.005}, Case{"CH", capped_cylinder, hull, 0.005},
+        Case{"CH", two_spheres, hull, 0.005}, Case{"CH", box, hull, 1e-9},
+        // GM is exact on a cylinder standing on its axis (h > 2r).
+        Case{"GM", capped_cylinder, solid, 1e-6},
+        // The PCA box is exact on an axis-aligned box.
+        Case{"PCA-box", box, solid, 1e-9},
+        // VB at 2 mm voxels: the filled shell overshoots by about half a voxel over
+        // the surface (a full voxel on grid-aligned faces); documented tolerance 12 %.
+        Case{"VB", sphere, solid, 0.12}, Case{"VB", ellipsoid, solid, 0.12}, Case{"VB", capped_cylinder, solid, 0.12},
+        Case{"VB", two_spheres, solid, 0.12}, Case{"VB", box, solid, 0.12}),
+    [](const auto& param_info) {
+      std::string n = param_info.param.estimator + "_" + param_info.param.shape().name;
+      for (auto& ch : n) ch = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+      return n;
+    });
+
+TEST(VoxelVolume, ConvergesAsTheVoxelShrinks) {
+  const Shape s = sphere();
+  const PointCloud c = to_point_cloud(s.surface);
+  double previous = std::numeric_limits<double>::infinity();
+  for (double k : {0.016, 0.008, 0.004, 0.002}) {
+    const VolumeEstimate v = voxel_volume(c, {k, true, 2e8});
+    const double err = std::abs(v.volume / s.volume - 1);
+    std::printf("[voxel] edge %.0f mm: relative error %.4f\n", k * 1e3, err);
+    EXPECT_TRUE(v.watertight);
+    EXPECT_LT(err, previous);
+    previous = err;
+  }
+  EXPECT_LT(previous, 0.08);
+  // Voxels finer than the point spacing (0.9 mm here) leave the shell open: reported.
+  const VolumeEstimate leaky = voxel_volume(c, {0.0005, true, 2e9});
+  EXPECT_FALSE(leaky.watertight);
+  EXPECT_NE(leaky.notes.find("not closed"), std::string::npos);
+  // Counting only occupied voxels measures a shell, far below the solid volume.
+  EXPECT_LT(voxel_volume(c, {0.002, false, 2e8}).volume, 0.3 * s.volume);
+}
+
+TEST(PcaBox, AxesAndExtentsOfARotatedBox) {
+  const Shape s = box();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  std::vector<Vec3> p;
+  for (const auto& x : s.surface) p.push_back(R * x + Vec3(0.3, -0.2, 1.0));
+  const PcaBox b = pca_box(to_point_cloud(p));
+  EXPECT_NEAR(b.height, 0.10, 1e-9);
+  EXPECT_NEAR(b.length, 0.06, 1e-9);
+  EXPECT_NEAR(b.width, 0.04, 1e-9);
+  EXPECT_NEAR(std::abs(b.axes.col(0).dot(R.col(0))), 1.0, 1e-9);
+}
+
+TEST(Estimators, DegenerateInputGivesAClearError) {
+  const PointCloud empty(0, 3);
+  PointCloud three(3, 3);
+  three << 0, 0, 0, 1, 0, 0, 0, 1, 0;
+  PointCloud flat(100, 3);
+  for (int i = 0; i < 100; ++i) flat.row(i) << std::cos(i), std::sin(i), 0.0;
+  PointCloud nan = flat;
+  nan(7, 2) = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::pair<std::string, std::function<void(const PointCloud&)>>> estimators = {
+      {"CH", [](const PointCloud& c) { convex_hull_volume(c); }},
+      {"GM", [](const PointCloud& c) { cylinder_model_volume(c); }},
+      {"VB", [](const PointCloud& c) { voxel_volume(c); }},
+      {"PCA-box", [](const PointCloud& c) { pca_box(c); }},
+  };
+  for (const auto& [name, run] : estimators) {
+    for (const PointCloud* c : std::initializer_list<const PointCloud*>{&empty, &nan}) {
+      EXPECT_THROW(run(*c), InputError) << name;
+    }
+    if (name != "PCA-box") {
+      EXPECT_THROW(run(three), InputError) << name;
+      EXPECT_THROW(run(flat), InputError) << name;  // coplanar: no volume
+    }
+  }
+  try {
+    convex_hull_volume(nan);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("point 7"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(voxel_volume(flat, {1e-6, true, 2e8}), InputError);  // voxel size out of range
+  EXPECT_THROW(voxel_volume(flat, {1e-4, true, 1e3}), InputError);  // grid too large
+}
+
+}  // namespace
+}  // namespace grapebench
