@@ -13,9 +13,9 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
   const double fB = cam.K.fx * p_.baseline;
   const Vec3 right = pose * Vec3(p_.baseline, 0, 0);
   const Vec3 projector = pose * Vec3(p_.projector_x, p_.projector_y, 0);
-  int bu0 = 0, bv0 = 0, bu1 = 0, bv1 = 0;
-  const bool bunch_visible =
-      scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), bu0, bv0, bu1, bv1);
+  const BunchPixels bp = bunch_pixels(scene, cam);
+  const bool bunch_visible = bp.visible;
+  const int bu0 = bp.u0, bv0 = bp.v0, bu1 = bp.u1, bv1 = bp.v1;
   const Vec3 bc = scene.bounds_centre();
   const double br = scene.bounds_radius();
   // Whether a segment can pass through the bunch at all (else nothing can block it).

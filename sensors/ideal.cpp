@@ -11,9 +11,9 @@ OrganisedCloud IdealSensor::capture(const RayScene& scene, const Eigen::Isometry
 OrganisedCloud capture_exact(const RayScene& scene, const Camera& cam) {
   const Eigen::Isometry3d& pose = cam.pose;
   const int W = cam.K.width, H = cam.K.height;
-  int bu0 = 0, bv0 = 0, bu1 = 0, bv1 = 0;
-  const bool bunch_visible =
-      scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), bu0, bv0, bu1, bv1);
+  const BunchPixels bp = bunch_pixels(scene, cam);
+  const bool bunch_visible = bp.visible;
+  const int bu0 = bp.u0, bv0 = bp.v0, bu1 = bp.u1, bv1 = bp.v1;
   const Eigen::Matrix3d to_cam = pose.linear().transpose();
   OrganisedCloud out;
   out.resize(W, H);

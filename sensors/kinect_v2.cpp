@@ -26,9 +26,9 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
   const double lateral = p_.lateral_sd_px * p_.noise_scale;
   const double c = 299792458.0, k_phase = 4 * M_PI * p_.modulation_mhz * 1e6 / c;
   const double max_incidence = p_.max_incidence_deg * M_PI / 180;
-  int bu0 = 0, bv0 = 0, bu1 = 0, bv1 = 0;
-  const bool bunch_visible =
-      scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), bu0, bv0, bu1, bv1);
+  const BunchPixels bp = bunch_pixels(scene, cam);
+  const bool bunch_visible = bp.visible;
+  int bu0 = bp.u0, bv0 = bp.v0, bu1 = bp.u1, bv1 = bp.v1;
   const int margin = static_cast<int>(std::ceil(6 * lateral)) + 1;  // jitter can reach in
   bu0 = std::max(0, bu0 - margin);
   bv0 = std::max(0, bv0 - margin);

@@ -77,6 +77,13 @@ void stem_bounds(const RTCBoundsFunctionArguments* args) {
   b->upper_z = std::nextafter(static_cast<float>(hi.z()), INFINITY);
 }
 
+// Lane i of an Embree ray packet against one stem.
+bool stem_hit(const Stem& s, RTCRayN* ray, unsigned N, unsigned i, double& t, Vec3& n) {
+  const Vec3 o(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
+  const Vec3 d(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
+  return ray_cylinder(s, o, d, RTCRayN_tnear(ray, N, i), t, n);
+}
+
 void stem_intersect(const RTCIntersectFunctionNArguments* args) {
   const Stem& s = static_cast<const Stem*>(args->geometryUserPtr)[args->primID];
   const unsigned N = args->N;
@@ -84,12 +91,10 @@ void stem_intersect(const RTCIntersectFunctionNArguments* args) {
   RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, N);
   for (unsigned i = 0; i < N; ++i) {
     if (args->valid[i] != -1) continue;
-    const Vec3 o(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
-    const Vec3 d(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
     double t;
     Vec3 n;
-    if (!ray_cylinder(s, o, d, RTCRayN_tnear(ray, N, i), t, n)) continue;
-    if (t >= RTCRayN_tfar(ray, N, i)) continue;
+    const bool hit_stem = stem_hit(s, ray, N, i, t, n);
+    if (!hit_stem || t >= RTCRayN_tfar(ray, N, i)) continue;
     RTCRayN_tfar(ray, N, i) = static_cast<float>(t);
     RTCHitN_Ng_x(hit, N, i) = static_cast<float>(n.x());
     RTCHitN_Ng_y(hit, N, i) = static_cast<float>(n.y());
@@ -108,11 +113,10 @@ void stem_occluded(const RTCOccludedFunctionNArguments* args) {
   RTCRayN* ray = args->ray;
   for (unsigned i = 0; i < N; ++i) {
     if (args->valid[i] != -1) continue;
-    const Vec3 o(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
-    const Vec3 d(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
     double t;
     Vec3 n;
-    if (ray_cylinder(s, o, d, RTCRayN_tnear(ray, N, i), t, n) && t < RTCRayN_tfar(ray, N, i)) {
+    const bool hit_stem = stem_hit(s, ray, N, i, t, n);
+    if (hit_stem && t < RTCRayN_tfar(ray, N, i)) {
       RTCRayN_tfar(ray, N, i) = -INFINITY;  // Embree's convention for "occluded"
     }
   }

@@ -38,6 +38,12 @@ std::array<std::uint8_t, 3> shade(const Rgb& c, const Vec3& normal, const Vec3& 
   return {byte(c.r), byte(c.g), byte(c.b)};
 }
 
+BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam) {
+  BunchPixels b;
+  b.visible = scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), b.u0, b.v0, b.u1, b.v1);
+  return b;
+}
+
 std::size_t trace_row(const RayScene& scene, const Camera& cam, int v, int ua, int ub, int bu0, int bu1,
                       bool sees_bunch, std::vector<Ray>& rays, std::vector<Hit>& hits) {
   rays.resize(cam.K.width);

@@ -51,6 +51,14 @@ inline double point_segment_distance_sq(const Vec3& p, const Vec3& a, const Vec3
   const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
   return (p - (a + t * ab)).squaredNorm();
 }
+// Pixel rectangle [u0, u1) x [v0, v1) that can see the bunch from `cam`; `visible` is
+// false when it cannot be seen at all (or the scene holds only a background).
+struct BunchPixels {
+  bool visible = false;
+  int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+};
+BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam);
+
 // One ray per pixel centre of row v over pixels [ua, ub): Embree for [bu0, bu1) when
 // `sees_bunch`, the analytic background elsewhere. Returns the rays traced by Embree.
 std::size_t trace_row(const RayScene& scene, const Camera& cam, int v, int ua, int ub, int bu0, int bu1,
