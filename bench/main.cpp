@@ -1,4 +1,6 @@
 // grapebench: the command-line program.
+#include "bench/check.h"
+#include "bench/runner.h"
 #include "bench/scan_run.h"
 #include "bench/scene.h"
 #include "bench/synth_run.h"
@@ -9,6 +11,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -72,6 +75,26 @@ std::string sensor_help() {
   return s.str();
 }
 
+std::string run_help() {
+  std::ostringstream s;
+  s << "A scene for `run` adds to the sections of `scan` (see `grapebench scan --help`):\n\n"
+       "pipeline:   segmentation: labels (the ground-truth bunch labels; an oracle)\n"
+       "            registration: true_poses | seed000_pca_icp | known_angle_icp | plain_icp\n"
+       "            icp: {max_correspondence_distance 0.01 m [1e-4,1], max_iterations 50 [1,10000],\n"
+       "                  transformation_epsilon 1e-9, fitness_epsilon 1e-10}\n"
+       "            group_size 3 [1,360] (seed 000), bottom_band 0.03 m (seed 002), angle_error_sd_deg 0 [0,45],\n"
+       "            min_points 100 (fewer bunch points fail the case)\n"
+       "estimators: a list of {type, name (optional column name), parameters}; types:\n";
+  for (const auto& e : estimator_registry()) s << "            " << e.type << "  " << e.summary << "\n";
+  s << "sweep:      {dotted.key: [values] or {from, to, step}}, e.g. sensor.noise_scale: [0, 0.5, 1, 2, 4],\n"
+       "            bunches.compactness (every group), estimators[2].alpha; the run covers the product.\n\n"
+       "Outputs in <out>/<scene name>/: results.csv (a row per case, estimator and quantity; deterministic),\n"
+       "summary.json (scores per condition and estimator; deterministic), timings.csv/json, manifest.json,\n"
+       "report.html (self-contained) and plots/*.svg; cases/*.json hold finished cases, so an interrupted run\n"
+       "resumes where it stopped.\n";
+  return s.str();
+}
+
 int synth_command(const std::string& scene_path, const std::string& preset_name, int count,
                   std::uint64_t seed, const std::vector<std::string>& sets, const SynthOptions& opt) {
   std::vector<BunchJob> jobs;
@@ -130,16 +153,33 @@ int main(int argc, char** argv) {
   synth->footer(parameter_help());
 
   // grapebench run
-  auto* run = app.add_subcommand("run", "Run scene files (default: the default suite)");
+  auto* run = app.add_subcommand("run", "Run scene files: scan, register, estimate, score, report (default: scenes/default.yaml)");
   std::vector<std::string> run_scenes;
-  std::string run_out = "results/runs";
-  int run_threads = 0;
+  std::string run_out = "results/runs", shard;
+  RunOptions run_opt;
   run->add_option("scenes", run_scenes, "Scene files")->check(CLI::ExistingFile);
   run->add_option("--out", run_out, "Output folder (one subfolder per scene)")->capture_default_str();
-  run->add_option("--threads", run_threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-  run->footer(
-      "Until sensors/ and the scoring harness land, `run` generates each scene's bunches,\n"
-      "writes their ground truth and meshes, and prints a summary.");
+  run->add_option("--threads", run_opt.threads, "Worker threads (0 = all cores); results do not depend on it")
+      ->check(CLI::Range(0, 1024))->capture_default_str();
+  run->add_option("--shard", shard, "Run only slice i of N (i/N, 0-based); join with `grapebench merge`");
+  run->add_flag("--no-resume", [&](std::int64_t) { run_opt.resume = false; }, "Recompute finished cases too");
+  run->add_flag("--quiet", run_opt.quiet, "No progress output");
+  run->footer(run_help());
+
+  // grapebench merge
+  auto* merge = app.add_subcommand("merge", "Join the case files of `run --shard` folders and write the tables and report");
+  std::string merge_scene, merge_out;
+  std::vector<std::string> merge_from;
+  merge->add_option("scene", merge_scene, "The scene file the shards ran")->required()->check(CLI::ExistingFile);
+  merge->add_option("--from", merge_from, "Shard output folders (the scene's folder in each)")->required();
+  merge->add_option("--out", merge_out, "Merged output folder")->required();
+
+  // grapebench check
+  auto* check = app.add_subcommand("check", "Compare a run's summary.json with a baseline; exit 1 on a regression");
+  std::string check_run, check_baseline;
+  check->add_option("run", check_run, "summary.json of the run (or its folder)")->required();
+  check->add_option("--baseline", check_baseline, "Baseline summary (results/baseline/<suite>.json)")->required()
+      ->check(CLI::ExistingFile);
 
   // grapebench scan
   auto* scan = app.add_subcommand("scan", "Scan a scene's bunches with its sensor and rig");
@@ -170,19 +210,67 @@ int main(int argc, char** argv) {
     }
     if (run->parsed()) {
       if (run_scenes.empty()) run_scenes = {"scenes/default.yaml"};
-      for (const auto& path : run_scenes) {
-        const Scene scene = load_scene(path);
-        SynthOptions ro;
-        ro.out = std::filesystem::path(run_out) / scene.name;
-        ro.threads = run_threads;
-        std::printf("== scene %s (%s): %zu bunches\n", scene.name.c_str(), path.c_str(), bunch_jobs(scene).size());
+      if (!shard.empty()) {
+        const auto slash = shard.find('/');
+        try {
+          if (slash == std::string::npos) throw std::invalid_argument("no slash");
+          run_opt.shard_index = std::stoi(shard.substr(0, slash));
+          run_opt.shard_count = std::stoi(shard.substr(slash + 1));
+        } catch (const std::exception&) {
+          throw InputError("--shard expects i/N (0 <= i < N), got '" + shard + "'");
+        }
+      }
+      // Every scene is read (and every error reported) before any work starts.
+      std::vector<SceneSet> scene_sets;
+      for (const auto& path : run_scenes) scene_sets.push_back(load_scene_set(path));
+      for (const auto& set : scene_sets) {
+        RunOptions o = run_opt;
+        o.out = std::filesystem::path(run_out) / set.base.name;
+        std::printf("== %s (%s): %zu condition(s) x %zu bunches\n", set.base.name.c_str(), set.base.path.c_str(),
+                    set.conditions.size(), bunch_jobs(set.base).size());
+        std::fflush(stdout);
         const auto t0 = std::chrono::steady_clock::now();
-        const auto results = run_synth(bunch_jobs(scene), ro);
+        const RunOutcome r = run_scene_set(set, o);
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::cout << synth_summary_table(results);
-        std::printf("ground truth and meshes in %s (%.2f s)\n", ro.out.string().c_str(), wall);
+        std::printf("%d cases: %d computed, %d reused from %s/cases (%.1f s)\n", r.cases, r.computed, r.reused,
+                    o.out.string().c_str(), wall);
+        if (r.complete) {
+          std::cout << r.leaderboard;
+          std::printf("results: %s/{results.csv,summary.json,report.html}\n", o.out.string().c_str());
+        } else {
+          std::printf("shard %d/%d done; join the shards with `grapebench merge %s --from <dirs> --out <dir>`\n",
+                      o.shard_index, o.shard_count, set.base.path.c_str());
+        }
       }
       return 0;
+    }
+    if (merge->parsed()) {
+      const SceneSet set = load_scene_set(merge_scene);
+      RunOptions o;
+      o.out = merge_out;
+      std::vector<std::filesystem::path> dirs(merge_from.begin(), merge_from.end());
+      const RunOutcome r = merge_shards(set, dirs, o);
+      std::cout << r.leaderboard;
+      std::printf("merged %d cases into %s\n", r.cases, merge_out.c_str());
+      return 0;
+    }
+    if (check->parsed()) {
+      std::filesystem::path p = check_run;
+      if (std::filesystem::is_directory(p)) p /= "summary.json";
+      const auto read = [](const std::filesystem::path& f) {
+        std::ifstream in(f, std::ios::binary);
+        if (!in) throw InputError(f.string() + ": cannot open");
+        try {
+          return nlohmann::json::parse(in);
+        } catch (const std::exception& e) {
+          throw InputError(f.string() + ": not a summary JSON file: " + e.what());
+        }
+      };
+      const auto res = check_against_baseline(read(p), read(check_baseline));
+      std::cout << res.diff;
+      std::printf("%s: %d rows compared with %s\n", res.pass ? "PASS" : "REGRESSION", res.rows_compared,
+                  check_baseline.c_str());
+      return res.pass ? 0 : 1;
     }
   } catch (const InputError& e) {
     std::fprintf(stderr, "grapebench: error: %s\n", e.what());

@@ -2,11 +2,89 @@
 
 #include "synth/rng.h"
 
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace grapebench {
 
+nlohmann::ordered_json PipelineSpec::describe() const {
+  return {{"segmentation", segmentation},
+          {"registration", registration},
+          {"icp",
+           {{"max_correspondence_distance_m", icp.max_correspondence_distance},
+            {"max_iterations", icp.max_iterations},
+            {"transformation_epsilon", icp.transformation_epsilon},
+            {"fitness_epsilon_m2", icp.fitness_epsilon}}},
+          {"group_size", group_size},
+          {"bottom_band_m", bottom_band},
+          {"angle_error_sd_deg", angle_error_sd_deg},
+          {"min_points", min_points}};
+}
+
 namespace {
+
+PipelineSpec read_pipeline(const ConfigNode& n) {
+  PipelineSpec p;
+  p.segmentation = n.get_choice("segmentation", p.segmentation, {"labels"});
+  p.registration =
+      n.get_choice("registration", p.registration, {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp"});
+  if (n.has("icp")) {
+    const ConfigNode i = n.child("icp");
+    p.icp.max_correspondence_distance =
+        i.get_real("max_correspondence_distance", p.icp.max_correspondence_distance, 1e-4, 1);
+    p.icp.max_iterations = static_cast<int>(i.get_int("max_iterations", p.icp.max_iterations, 1, 10000));
+    p.icp.transformation_epsilon = i.get_real("transformation_epsilon", p.icp.transformation_epsilon, 0, 1);
+    p.icp.fitness_epsilon = i.get_real("fitness_epsilon", p.icp.fitness_epsilon, 0, 1);
+  }
+  p.group_size = static_cast<int>(n.get_int("group_size", p.group_size, 1, 360));
+  p.bottom_band = n.get_real("bottom_band", p.bottom_band, 0.001, 0.5);
+  p.angle_error_sd_deg = n.get_real("angle_error_sd_deg", p.angle_error_sd_deg, 0, 45);
+  p.min_points = n.get_real("min_points", p.min_points, 4, 1e9);
+  return p;
+}
+
+std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
+  std::vector<EstimatorSpec> out;
+  for (const auto& n : root.children("estimators")) {
+    const EstimatorEntry& entry = find_estimator(n);
+    EstimatorSpec e;
+    e.type = entry.type;
+    e.quantities = entry.quantities;
+    e.name = n.get_string("name", entry.type);
+    if (e.name.empty() || e.name.find_first_of(",\"\n ") != std::string::npos) {
+      n.fail("name", "must be non-empty without spaces, commas or quotes");
+    }
+    for (const auto& other : out) {
+      if (other.name == e.name) n.fail("name", "'" + e.name + "' is used twice; give each estimator its own `name:`");
+    }
+    e.run = entry.create(n, e.params);
+    out.push_back(std::move(e));
+  }
+  if (root.has("estimators") && out.empty()) root.fail("estimators", "the list is empty");
+  return out;
+}
+
+// Values of one sweep axis: a list of numbers, or {from, to, step}.
+std::vector<double> sweep_values(const ConfigNode& sweep, const std::string& key) {
+  const YAML::Node v = sweep.yaml()[key];
+  if (v.IsSequence()) return sweep.get_real_list_any(key, 1, 10000, -1e300, 1e300);
+  if (v.IsMap()) {
+    const ConfigNode r = sweep.child(key);
+    const double from = r.get_real("from", 0, -1e300, 1e300), to = r.get_real("to", 0, -1e300, 1e300);
+    if (!r.has("from") || !r.has("to") || !r.has("step")) r.fail("", "a range needs from, to and step");
+    const double step = r.get_real("step", 1, 1e-300, 1e300);
+    const double count = std::floor((to - from) / step + 1e-9) + 1;
+    if (!(count >= 1 && count <= 10000)) r.fail("step", "gives " + std::to_string(count) + " values; allowed 1-10000");
+    std::vector<double> out;
+    for (int k = 0; k < static_cast<int>(count); ++k) out.push_back(from + k * step);
+    return out;
+  }
+  sweep.fail(key, "expected a list of numbers or {from, to, step}");
+}
 
 Scene read_scene(const ConfigNode& root, const std::string& path) {
   Scene s;
@@ -28,6 +106,17 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
   if (root.has("rig")) s.rig = make_rig(root.child("rig"));
   if (root.has("background")) s.background = read_background(root.child("background"));
   if (s.rig && !s.sensor) root.fail("rig", "a rig needs a `sensor:` section");
+  if (root.has("pipeline")) s.pipeline = read_pipeline(root.child("pipeline"));
+  if (root.has("estimators")) s.estimators = read_estimators(root);
+  if (!s.estimators.empty() && !s.rig) root.fail("estimators", "estimators need a `sensor:` and a `rig:` to scan with");
+  if (root.has("sweep")) {
+    const ConfigNode sweep = root.child("sweep");
+    for (const auto& kv : sweep.yaml()) {
+      const std::string key = kv.first.as<std::string>();
+      s.sweep.push_back({key, sweep_values(sweep, key)});
+    }
+    if (s.sweep.empty()) root.fail("sweep", "the mapping is empty");
+  }
   root.report_unused();
   return s;
 }
@@ -35,6 +124,124 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
 }  // namespace
 
 Scene load_scene(const std::string& path) { return read_scene(ConfigNode::load_file(path), path); }
+
+namespace {
+
+// Points `root` at path (dotted, `name[i]` indexes a list, a list without an index
+// means every element) and sets the value there.
+void substitute(YAML::Node node, const std::string& path, const YAML::Node& value, const std::string& where) {
+  const auto dot = path.find('.');
+  std::string head = path.substr(0, dot);
+  const std::string rest = dot == std::string::npos ? "" : path.substr(dot + 1);
+  int index = -1;
+  if (const auto br = head.find('['); br != std::string::npos && head.back() == ']') {
+    try {
+      index = std::stoi(head.substr(br + 1, head.size() - br - 2));
+    } catch (const std::exception&) {
+      throw InputError(where + ": sweep key '" + path + "': bad index in '" + head + "'");
+    }
+    head = head.substr(0, br);
+  }
+  if (!node.IsMap() || !node[head]) {
+    throw InputError(where + ": sweep key '" + path + "': the scene has no '" + head +
+                     "' here; sweep a key the scene sets (write its nominal value in the scene)");
+  }
+  YAML::Node child = node[head];
+  std::vector<YAML::Node> targets;
+  if (child.IsSequence()) {
+    if (index >= static_cast<int>(child.size())) {
+      throw InputError(where + ": sweep key '" + path + "': index " + std::to_string(index) + " beyond the list of " +
+                       std::to_string(child.size()));
+    }
+    if (index >= 0) {
+      targets.push_back(child[static_cast<std::size_t>(index)]);
+    } else {
+      for (auto e : child) targets.push_back(e);
+    }
+  } else {
+    if (index >= 0) throw InputError(where + ": sweep key '" + path + "': '" + head + "' is not a list");
+    if (rest.empty()) {
+      node[head] = value;
+      return;
+    }
+    targets.push_back(child);
+  }
+  if (rest.empty()) throw InputError(where + ": sweep key '" + path + "': names a list, not a number");
+  for (auto& t : targets) substitute(t, rest, value, where);
+}
+
+std::string number_label(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+SceneSet expand(const YAML::Node& root_yaml, const std::string& name) {
+  SceneSet set;
+  set.base = read_scene(ConfigNode::from_yaml(YAML::Clone(root_yaml), name), name);
+  if (set.base.sweep.empty()) {
+    set.conditions.push_back({{}, "", set.base});
+    return set;
+  }
+  std::size_t total = 1;
+  for (const auto& a : set.base.sweep) total *= a.values.size();
+  if (total > 100000) throw InputError(name + ": the sweep has " + std::to_string(total) + " points; at most 100000");
+  const std::string sweep_line = ConfigNode::from_yaml(root_yaml, name).where("sweep");
+  for (std::size_t flat = 0; flat < total; ++flat) {
+    Condition c;
+    YAML::Node doc = YAML::Clone(root_yaml);
+    doc.remove("sweep");
+    std::size_t rest = flat;
+    std::vector<std::size_t> idx(set.base.sweep.size());
+    for (std::size_t a = set.base.sweep.size(); a-- > 0;) {
+      idx[a] = rest % set.base.sweep[a].values.size();
+      rest /= set.base.sweep[a].values.size();
+    }
+    for (std::size_t a = 0; a < set.base.sweep.size(); ++a) {
+      const auto& axis = set.base.sweep[a];
+      const double v = axis.values[idx[a]];
+      c.values.push_back(v);
+      // A list element keeps its line, so a value out of range names where it was written.
+      const YAML::Node written = root_yaml["sweep"][axis.key];
+      YAML::Node value = written.IsSequence() ? written[idx[a]] : YAML::Node(v);
+      substitute(doc, axis.key, value, sweep_line);
+      const auto dot = axis.key.rfind('.');
+      c.label += (c.label.empty() ? "" : " ") + axis.key.substr(dot == std::string::npos ? 0 : dot + 1) + "=" +
+                 number_label(v);
+    }
+    try {
+      c.scene = read_scene(ConfigNode::from_yaml(doc, name), name);
+    } catch (const InputError& e) {
+      throw InputError(std::string(e.what()) + " (sweep point " + c.label + ")");
+    }
+    c.scene.sweep = set.base.sweep;
+    set.conditions.push_back(std::move(c));
+  }
+  return set;
+}
+
+YAML::Node parse_yaml(const std::string& text, const std::string& name) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  }
+}
+
+}  // namespace
+
+SceneSet parse_scene_set(const std::string& text, const std::string& name) {
+  return expand(parse_yaml(text, name), name);
+}
+
+SceneSet load_scene_set(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene_set(text.str(), path);
+}
 
 Scene parse_scene(const std::string& text, const std::string& name) {
   return read_scene(ConfigNode::load_string(text, name), name);

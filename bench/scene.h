@@ -1,6 +1,8 @@
 // Scene files: the strict YAML documents `grapebench` runs (see scenes/README.md).
 #pragma once
 
+#include "algorithms/registration.h"
+#include "algorithms/registry.h"
 #include "sensors/rig.h"
 #include "sensors/sensor.h"
 #include "synth/params.h"
@@ -18,6 +20,36 @@ struct BunchGroup {
   BunchParams params;  // the preset with the scene's overrides applied
 };
 
+// How the views of a scan become one bunch cloud (scene section `pipeline:`).
+struct PipelineSpec {
+  // labels: keep the returns whose ground-truth label is a bunch part (an oracle
+  // segmentation, so registration and estimators are scored alone).
+  std::string segmentation = "labels";
+  // true_poses | seed000_pca_icp | known_angle_icp | plain_icp
+  std::string registration = "true_poses";
+  IcpParams icp;
+  int group_size = 3;              // seed000_pca_icp: views per group, [1, 360]
+  double bottom_band = 0.03;       // known_angle_icp: lowest band for the bottom view, m, [0.001, 0.5]
+  double angle_error_sd_deg = 0;   // known_angle_icp: turntable angle error, deg, [0, 45]
+  double min_points = 100;         // a case with fewer bunch points fails, [4, 1e9]
+  nlohmann::ordered_json describe() const;
+};
+
+struct EstimatorSpec {
+  std::string name;  // column name in the results (default: the type)
+  std::string type;
+  std::vector<Quantity> quantities;
+  nlohmann::ordered_json params;  // every parameter with defaults filled
+  BoundEstimator run;
+};
+
+// One swept parameter: a dotted path into the scene ("sensor.noise_scale",
+// "bunches.compactness" for every group, "estimators[1].alpha") and its values.
+struct SweepAxis {
+  std::string key;
+  std::vector<double> values;
+};
+
 struct Scene {
   std::string path;
   std::string name;
@@ -28,6 +60,22 @@ struct Scene {
   std::shared_ptr<const Sensor> sensor;
   std::shared_ptr<const Rig> rig;
   BackgroundSpec background;
+  PipelineSpec pipeline;
+  std::vector<EstimatorSpec> estimators;
+  std::vector<SweepAxis> sweep;  // as written; each Condition below is one point
+};
+
+// One point of a scene's sweep: the scene with the swept values substituted.
+struct Condition {
+  std::vector<double> values;  // one per sweep axis
+  std::string label;           // "noise_scale=0.5 distance=1" ("" without sweep)
+  Scene scene;
+};
+
+// A scene file and its conditions (one when it has no `sweep:`).
+struct SceneSet {
+  Scene base;
+  std::vector<Condition> conditions;
 };
 
 // One bunch to generate: its own seed is derived from the scene seed and its index,
@@ -42,6 +90,9 @@ struct BunchJob {
 // Throws InputError naming file:line, key and allowed range; unknown keys are errors.
 Scene load_scene(const std::string& path);
 Scene parse_scene(const std::string& text, const std::string& name);
+// A scene with its sweep expanded (the product of the axes, first axis slowest).
+SceneSet load_scene_set(const std::string& path);
+SceneSet parse_scene_set(const std::string& text, const std::string& name);
 std::vector<BunchJob> bunch_jobs(const Scene& scene);
 
 }  // namespace grapebench

@@ -35,6 +35,10 @@ ConfigNode ConfigNode::load_string(const std::string& text, const std::string& n
     throw InputError(name + ":" + std::to_string(e.mark.line + 1) +
                      ": YAML syntax error: " + e.msg);
   }
+  return from_yaml(root, name);
+}
+
+ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name) {
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   auto state = std::make_shared<State>();
   state->file = name;

@@ -28,6 +28,10 @@ class ConfigNode {
   static ConfigNode load_file(const std::string& path);
   // Parses text; `name` stands for the file in messages.
   static ConfigNode load_string(const std::string& text, const std::string& name);
+  // Wraps an already parsed document (e.g. a scene with sweep values substituted;
+  // substituted nodes keep the line marks of where their values were written).
+  static ConfigNode from_yaml(YAML::Node root, const std::string& name);
+  const YAML::Node& yaml() const { return node_; }
 
   bool has(const std::string& key) const;
   // Typed getters: a missing key returns `fallback`; a present key must convert and

@@ -1,0 +1,92 @@
+#include "algorithms/registry.h"
+
+#include "algorithms/alpha_shape_volume.h"
+#include "algorithms/convex_hull_volume.h"
+#include "algorithms/cylinder_model_volume.h"
+#include "algorithms/pca_box.h"
+#include "algorithms/voxel_volume.h"
+
+namespace grapebench {
+
+const char* quantity_name(Quantity q) {
+  switch (q) {
+    case Quantity::Volume: return "volume";
+    case Quantity::Height: return "height";
+    case Quantity::Length: return "length";
+    case Quantity::Width: return "width";
+  }
+  return "?";
+}
+
+namespace {
+
+Estimate volume_only(const VolumeEstimate& v) {
+  Estimate e;
+  e.values = {{Quantity::Volume, v.volume}};
+  e.watertight = v.watertight;
+  e.notes = v.notes;
+  return e;
+}
+
+// One line per estimator: type, summary, parameter reader.
+const std::vector<EstimatorEntry> kEntries = {
+    {"pca_box", "PCA-frame bounding box height/length/width (seed 000 Eq. 5, seed 002 Eqs. 7-9)",
+     {Quantity::Height, Quantity::Length, Quantity::Width},
+     [](const ConfigNode&, nlohmann::ordered_json&) -> BoundEstimator {
+       return [](const PointCloud& c) {
+         const PcaBox b = pca_box(c);
+         return Estimate{{{Quantity::Height, b.height}, {Quantity::Length, b.length}, {Quantity::Width, b.width}}, false, {}};
+       };
+     }},
+    {"cylinder_model", "GM: cylinder of diameter max(l, w) and height h (seed 000 Eq. 6)",
+     {Quantity::Volume},
+     [](const ConfigNode&, nlohmann::ordered_json&) -> BoundEstimator {
+       return [](const PointCloud& c) { return volume_only(cylinder_model_volume(c)); };
+     }},
+    {"convex_hull", "CH: convex hull volume (seed 000; CGAL quickhull)",
+     {Quantity::Volume},
+     [](const ConfigNode&, nlohmann::ordered_json&) -> BoundEstimator {
+       return [](const PointCloud& c) { return volume_only(convex_hull_volume(c)); };
+     }},
+    {"alpha_shape", "AS: solid alpha complex volume (seed 000; CGAL), alpha as a radius in m",
+     {Quantity::Volume},
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundEstimator {
+       AlphaShapeParams a;
+       a.alpha = n.get_real("alpha", a.alpha, 1e-4, 10);
+       p["alpha"] = a.alpha;
+       return [a](const PointCloud& c) { return volume_only(alpha_shape_volume(c, a)); };
+     }},
+    {"voxel", "VB: voxel counting (seed 000 Eq. 7), voxel edge in m",
+     {Quantity::Volume},
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundEstimator {
+       VoxelVolumeParams v;
+       v.voxel_size = n.get_real("voxel_size", v.voxel_size, 1e-4, 0.5);
+       v.fill_interior = n.get_bool("fill_interior", v.fill_interior);
+       v.max_cells = n.get_real("max_cells", v.max_cells, 1e3, 1e9);
+       p["voxel_size"] = v.voxel_size;
+       p["fill_interior"] = v.fill_interior;
+       p["max_cells"] = v.max_cells;
+       return [v](const PointCloud& c) { return volume_only(voxel_volume(c, v)); };
+     }},
+};
+
+}  // namespace
+
+const std::vector<EstimatorEntry>& estimator_registry() { return kEntries; }
+
+std::vector<std::string> estimator_types() {
+  std::vector<std::string> t;
+  for (const auto& e : kEntries) t.push_back(e.type);
+  return t;
+}
+
+const EstimatorEntry& find_estimator(const ConfigNode& node) {
+  if (!node.has("type")) node.fail("type", "missing: one of the registered estimators (grapebench run --help)");
+  const std::string type = node.get_choice("type", "", estimator_types());
+  for (const auto& e : kEntries) {
+    if (e.type == type) return e;
+  }
+  node.fail("type", "missing");
+}
+
+}  // namespace grapebench

@@ -1,0 +1,46 @@
+// The estimator registry: scene files name estimators by `type` (Mitsuba's `type=`,
+// pbrt's Create). Adding an estimator is its file pair plus one line in registry.cpp.
+#pragma once
+
+#include "algorithms/point_cloud.h"
+#include "synth/config.h"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace grapebench {
+
+// Quantities an estimator can report, each scored against its ground truth.
+// SI units inside the program (m3, m); the harness writes cm3 and mm.
+enum class Quantity { Volume, Height, Length, Width };
+const char* quantity_name(Quantity q);  // "volume", "height", ...
+
+// What one run of an estimator gives the harness.
+struct Estimate {
+  std::vector<std::pair<Quantity, double>> values;
+  bool watertight = false;  // for volume methods with a mesh
+  std::string notes;
+};
+
+// An estimator with its parameters bound (parsed and range-checked when the scene is
+// read, so a bad parameter fails before any work starts).
+using BoundEstimator = std::function<Estimate(const PointCloud& registered_bunch)>;
+
+struct EstimatorEntry {
+  std::string type;
+  std::string summary;  // one line: paper, equation, what it measures
+  std::vector<Quantity> quantities;  // what it reports (rows even when it fails)
+  // Reads the parameters from the scene's mapping (the harness reports unused keys)
+  // and returns them with defaults filled, for the manifest.
+  std::function<BoundEstimator(const ConfigNode& node, nlohmann::ordered_json& params)> create;
+};
+
+const std::vector<EstimatorEntry>& estimator_registry();
+std::vector<std::string> estimator_types();
+// Looks up node["type"]; unknown types name file:line and the registered ones.
+const EstimatorEntry& find_estimator(const ConfigNode& node);
+
+}  // namespace grapebench

@@ -1,0 +1,283 @@
+#include "bench/case_run.h"
+
+#include "algorithms/registration.h"
+#include "sensors/scan.h"
+#include "synth/generate.h"
+#include "synth/ground_truth.h"
+#include "synth/io.h"
+#include "synth/rng.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace grapebench {
+
+namespace {
+
+// Bump when the meaning of a case file changes, so old results are recomputed.
+constexpr const char* kCaseFormat = "grapebench-case-1";
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::uint64_t fnv1a(const std::string& s) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+double truth_of(Quantity q, const GroundTruth& gt) {
+  switch (q) {
+    case Quantity::Volume: return gt.volume.solid;
+    case Quantity::Height: return gt.pca_extent(0);
+    case Quantity::Length: return gt.pca_extent(1);
+    case Quantity::Width: return gt.pca_extent(2);
+  }
+  return 0;
+}
+
+bool is_bunch_part(std::uint8_t label) {
+  return label == static_cast<std::uint8_t>(Part::Berry) || label == static_cast<std::uint8_t>(Part::Pedicel) ||
+         label == static_cast<std::uint8_t>(Part::Rachis) || label == static_cast<std::uint8_t>(Part::Peduncle);
+}
+
+Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(angle_rad, Vec3::UnitZ()).toRotationMatrix();
+  t.translation() = centre - t.linear() * centre;
+  return t;
+}
+
+}  // namespace
+
+nlohmann::ordered_json condition_json(const Condition& c) {
+  const Scene& s = c.scene;
+  nlohmann::ordered_json j;
+  j["scene"] = s.name;
+  j["condition"] = c.label;
+  j["seed"] = s.seed;
+  nlohmann::ordered_json groups = nlohmann::ordered_json::array();
+  for (const auto& g : s.groups) groups.push_back({{"preset", g.preset}, {"count", g.count}, {"params", params_json(g.params)}});
+  j["bunches"] = groups;
+  j["sensor"] = s.sensor ? s.sensor->describe() : nlohmann::ordered_json();
+  j["rig"] = s.rig ? s.rig->describe() : nlohmann::ordered_json();
+  j["background"] = {{"type", s.background.type},
+                     {"distance_m", s.background.distance},
+                     {"colour", {s.background.colour.r, s.background.colour.g, s.background.colour.b}},
+                     {"albedo", s.background.albedo}};
+  j["pipeline"] = s.pipeline.describe();
+  nlohmann::ordered_json est = nlohmann::ordered_json::array();
+  for (const auto& e : s.estimators) est.push_back({{"name", e.name}, {"type", e.type}, {"params", e.params}});
+  j["estimators"] = est;
+  return j;
+}
+
+std::string case_key(const Condition& condition, const BunchJob& job) {
+  nlohmann::ordered_json j = condition_json(condition);
+  j.erase("condition");
+  j["format"] = kCaseFormat;
+  j["job"] = {{"preset", job.preset}, {"index", job.index}, {"seed", job.seed}, {"params", params_json(job.params)}};
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(j.dump())));
+  return hex;
+}
+
+CaseResult run_case(const Condition& condition, int condition_index, const BunchJob& job) {
+  const Scene& scene = condition.scene;
+  CaseResult r;
+  r.condition = condition_index;
+  r.bunch = job.index;
+  r.preset = job.preset;
+  r.seed = job.seed;
+  r.key = case_key(condition, job);
+  PointCloud merged;
+  GroundTruth gt;
+  try {
+    if (!scene.sensor || !scene.rig) throw InputError(scene.path + ": a run needs `sensor:` and `rig:` sections");
+    auto t0 = std::chrono::steady_clock::now();
+    const Bunch bunch = generate_bunch(job.params, job.seed);
+    gt = compute_ground_truth(bunch, job.params.density);
+    const RayScene rays(bunch);
+    // Same stream as `grapebench scan`, so a case's scan can be written and inspected.
+    const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
+    r.scan_seconds = seconds_since(t0);
+    r.views = static_cast<int>(scan.views.size());
+
+    // Segmentation (labels): the returns on bunch parts, in each camera's frame.
+    std::vector<RegistrationView> views;
+    for (const auto& v : scan.views) {
+      std::vector<Vec3> pts;
+      for (std::size_t i = 0; i < v.cloud.size(); ++i) {
+        if (v.cloud.valid[i] && is_bunch_part(v.cloud.label[i])) pts.push_back(v.cloud.xyz[i].cast<double>());
+      }
+      RegistrationView rv;
+      rv.points = to_point_cloud(pts);
+      rv.name = v.rig.name;
+      rv.bottom = v.rig.name == "bottom";
+      views.push_back(std::move(rv));
+    }
+    const Eigen::Isometry3d t0_inv = scan.views.front().rig.pose.inverse();
+    const auto& pl = scene.pipeline;
+    t0 = std::chrono::steady_clock::now();
+    if (pl.registration == "true_poses") {
+      std::vector<Vec3> pts;
+      for (std::size_t k = 0; k < views.size(); ++k) {
+        const auto& pose = scan.views[k].rig.pose;
+        for (Eigen::Index i = 0; i < views[k].points.rows(); ++i) pts.push_back(pose * views[k].points.row(i).transpose());
+      }
+      merged = to_point_cloud(pts);
+    } else {
+      for (const auto& v : views) {
+        if (v.points.rows() < 10) {
+          throw InputError("view " + v.name + " has " + std::to_string(v.points.rows()) +
+                           " bunch points; registration needs at least 10 in every view");
+        }
+      }
+      RegistrationResult reg;
+      if (pl.registration == "seed000_pca_icp") {
+        reg = register_seed000(views, pl.icp, pl.group_size);
+      } else if (pl.registration == "plain_icp") {
+        reg = register_plain_icp(views, pl.icp);
+      } else {
+        // Known turntable angles about a calibrated axis; an optional seeded angle
+        // error stands for the turntable's positioning error.
+        const Vec3 centre = 0.5 * (gt.bbox_min + gt.bbox_max);
+        Rng rng(derive_seed(job.seed, 0xa11e));
+        for (std::size_t k = 1; k < views.size(); ++k) {
+          const double err = pl.angle_error_sd_deg * rng.normal() * M_PI / 180;
+          views[k].nominal = t0_inv * rotation_about_vertical(centre, err) * scan.views[k].rig.pose;
+        }
+        const Vec3 up = t0_inv.linear() * Vec3::UnitZ();
+        reg = register_known_angle(views, up, pl.icp, pl.bottom_band);
+      }
+      merged = std::move(reg.merged);
+      double rsum = 0, tsum = 0;
+      for (std::size_t k = 1; k < views.size(); ++k) {
+        const Eigen::Isometry3d truth = t0_inv * scan.views[k].rig.pose;
+        const double re = rotation_error_deg(reg.poses[k], truth), te = translation_error(reg.poses[k], truth) * 1e3;
+        rsum += re;
+        tsum += te;
+        r.rotation_error_max_deg = std::max(r.rotation_error_max_deg, re);
+        r.translation_error_max_mm = std::max(r.translation_error_max_mm, te);
+      }
+      if (views.size() > 1) {
+        r.rotation_error_mean_deg = rsum / static_cast<double>(views.size() - 1);
+        r.translation_error_mean_mm = tsum / static_cast<double>(views.size() - 1);
+      }
+    }
+    r.registration_seconds = seconds_since(t0);
+    r.points = static_cast<std::size_t>(merged.rows());
+    if (static_cast<double>(merged.rows()) < pl.min_points) {
+      throw InputError("only " + std::to_string(merged.rows()) + " bunch points (pipeline.min_points " +
+                       std::to_string(static_cast<long long>(pl.min_points)) + ")");
+    }
+    r.ok = true;
+  } catch (const std::exception& e) {
+    r.ok = false;
+    r.error = e.what();
+  }
+  for (const auto& spec : scene.estimators) {
+    Estimate est;
+    std::string error = r.ok ? "" : "no cloud: " + r.error;
+    double secs = 0;
+    if (r.ok) {
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        est = spec.run(merged);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      secs = seconds_since(t0);
+    }
+    for (const Quantity q : spec.quantities) {
+      EstimateRow row;
+      row.estimator = spec.name;
+      row.type = spec.type;
+      row.quantity = quantity_name(q);
+      row.truth = r.ok ? truth_of(q, gt) : 0;
+      row.seconds = secs;
+      row.error = error;
+      if (error.empty()) {
+        for (const auto& [qq, v] : est.values) {
+          if (qq == q) {
+            row.estimate = v;
+            row.ok = std::isfinite(v);
+          }
+        }
+        if (!row.ok) row.error = "the estimator gave no finite value";
+        row.watertight = est.watertight;
+      }
+      r.rows.push_back(row);
+    }
+  }
+  return r;
+}
+
+nlohmann::ordered_json case_to_json(const CaseResult& c) {
+  nlohmann::ordered_json j;
+  j["format"] = kCaseFormat;
+  j["key"] = c.key;
+  j["condition"] = c.condition;
+  j["bunch"] = c.bunch;
+  j["preset"] = c.preset;
+  j["seed"] = c.seed;
+  j["ok"] = c.ok;
+  j["error"] = c.error;
+  j["points"] = c.points;
+  j["views"] = c.views;
+  j["rotation_error_mean_deg"] = c.rotation_error_mean_deg;
+  j["rotation_error_max_deg"] = c.rotation_error_max_deg;
+  j["translation_error_mean_mm"] = c.translation_error_mean_mm;
+  j["translation_error_max_mm"] = c.translation_error_max_mm;
+  j["scan_seconds"] = c.scan_seconds;
+  j["registration_seconds"] = c.registration_seconds;
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const auto& r : c.rows) {
+    rows.push_back({{"estimator", r.estimator}, {"type", r.type}, {"quantity", r.quantity}, {"ok", r.ok},
+                    {"estimate", r.estimate}, {"truth", r.truth}, {"watertight", r.watertight}, {"error", r.error},
+                    {"seconds", r.seconds}});
+  }
+  j["rows"] = rows;
+  return j;
+}
+
+CaseResult case_from_json(const nlohmann::json& j) {
+  if (j.value("format", "") != kCaseFormat) throw std::runtime_error("case file of another format");
+  CaseResult c;
+  c.key = j.at("key").get<std::string>();
+  c.condition = j.at("condition").get<int>();
+  c.bunch = j.at("bunch").get<int>();
+  c.preset = j.at("preset").get<std::string>();
+  c.seed = j.at("seed").get<std::uint64_t>();
+  c.ok = j.at("ok").get<bool>();
+  c.error = j.at("error").get<std::string>();
+  c.points = j.at("points").get<std::size_t>();
+  c.views = j.at("views").get<int>();
+  c.rotation_error_mean_deg = j.at("rotation_error_mean_deg").get<double>();
+  c.rotation_error_max_deg = j.at("rotation_error_max_deg").get<double>();
+  c.translation_error_mean_mm = j.at("translation_error_mean_mm").get<double>();
+  c.translation_error_max_mm = j.at("translation_error_max_mm").get<double>();
+  c.scan_seconds = j.at("scan_seconds").get<double>();
+  c.registration_seconds = j.at("registration_seconds").get<double>();
+  for (const auto& r : j.at("rows")) {
+    EstimateRow e;
+    e.estimator = r.at("estimator").get<std::string>();
+    e.type = r.at("type").get<std::string>();
+    e.quantity = r.at("quantity").get<std::string>();
+    e.ok = r.at("ok").get<bool>();
+    e.estimate = r.at("estimate").get<double>();
+    e.truth = r.at("truth").get<double>();
+    e.watertight = r.at("watertight").get<bool>();
+    e.error = r.at("error").get<std::string>();
+    e.seconds = r.at("seconds").get<double>();
+    c.rows.push_back(e);
+  }
+  return c;
+}
+
+}  // namespace grapebench

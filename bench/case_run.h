@@ -1,0 +1,56 @@
+// One case of a run: one bunch under one condition, from generation to scores.
+#pragma once
+
+#include "bench/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace grapebench {
+
+// One estimated quantity beside its truth. SI units (m3, m).
+struct EstimateRow {
+  std::string estimator;  // the scene's name for it
+  std::string type;
+  std::string quantity;   // volume | height | length | width
+  bool ok = false;        // false: the estimator failed (error says why)
+  double estimate = 0;
+  double truth = 0;
+  bool watertight = false;
+  std::string error;
+  double seconds = 0;     // wall time of the estimator (not deterministic)
+};
+
+struct CaseResult {
+  int condition = 0;
+  int bunch = 0;
+  std::string preset;
+  std::uint64_t seed = 0;
+  std::string key;        // hash of everything the case depends on (resume check)
+  bool ok = false;        // false: the scan or registration failed (error says why)
+  std::string error;
+  std::size_t points = 0;  // bunch points after segmentation and registration
+  int views = 0;
+  // Registration against the true relative poses (0 with true_poses).
+  double rotation_error_mean_deg = 0, rotation_error_max_deg = 0;
+  double translation_error_mean_mm = 0, translation_error_max_mm = 0;
+  std::vector<EstimateRow> rows;
+  double scan_seconds = 0, registration_seconds = 0;  // not deterministic
+};
+
+// Everything a case depends on, hashed: the condition's full parameters, the bunch
+// job and the program's format version.
+std::string case_key(const Condition& condition, const BunchJob& job);
+
+// Runs a case; errors of the bunch's scan or an estimator are recorded, not thrown.
+CaseResult run_case(const Condition& condition, int condition_index, const BunchJob& job);
+
+nlohmann::ordered_json case_to_json(const CaseResult& c);
+CaseResult case_from_json(const nlohmann::json& j);
+
+// The full parameters of a condition (scene, sensor, rig, pipeline, estimators).
+nlohmann::ordered_json condition_json(const Condition& c);
+
+}  // namespace grapebench

@@ -1,0 +1,366 @@
+#include "bench/report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <set>
+#include <sstream>
+
+namespace grapebench {
+
+namespace {
+
+const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e",
+                          "#8c564b", "#e377c2", "#17becf", "#7f7f7f", "#bcbd22"};
+const char* colour(std::size_t i) { return kPalette[i % 10]; }
+
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '&') o += "&amp;";
+    else if (c == '"') o += "&quot;";
+    else o += c;
+  }
+  return o;
+}
+
+std::string fmt(double v, int prec = 3) {
+  if (!std::isfinite(v)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.*g", prec, v);
+  return b;
+}
+
+// "Nice" tick values covering [lo, hi].
+std::vector<double> ticks(double lo, double hi) {
+  const double span = hi - lo;
+  const double raw = span / 5;
+  const double mag = std::pow(10, std::floor(std::log10(raw)));
+  double step = mag;
+  for (double m : {1.0, 2.0, 5.0, 10.0}) {
+    if (raw <= m * mag) {
+      step = m * mag;
+      break;
+    }
+  }
+  std::vector<double> t;
+  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) t.push_back(std::abs(v) < 1e-12 * step ? 0 : v);
+  return t;
+}
+
+struct Series {
+  std::string name;
+  std::vector<double> x, y, ylo, yhi;  // ylo/yhi: optional error bars
+  bool line = false;
+};
+
+// A scatter or line plot with axes, ticks, a legend and an optional y = x line.
+std::string plot(const std::string& title, const std::string& xlabel, const std::string& ylabel,
+                 const std::vector<Series>& series, bool identity) {
+  const double W = 460, H = 340, L = 64, R = 16, T = 30, B = 46;
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  for (const auto& s : series) {
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      x0 = std::min(x0, s.x[i]);
+      x1 = std::max(x1, s.x[i]);
+      y0 = std::min(y0, s.ylo.empty() ? s.y[i] : s.ylo[i]);
+      y1 = std::max(y1, s.yhi.empty() ? s.y[i] : s.yhi[i]);
+    }
+  }
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H << "\" viewBox=\"0 0 " << W
+    << " " << H << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  o << "<text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << esc(title) << "</text>\n";
+  if (!std::isfinite(x0)) {
+    o << "<text x=\"" << W / 2 << "\" y=\"" << H / 2 << "\" text-anchor=\"middle\">no data</text></svg>\n";
+    return o.str();
+  }
+  if (identity) {
+    x0 = y0 = std::min(x0, y0);
+    x1 = y1 = std::max(x1, y1);
+  }
+  const auto pad = [](double& a, double& b) {
+    const double d = b - a > 0 ? b - a : std::max(std::abs(a), 1.0);
+    a -= 0.05 * d;
+    b += 0.05 * d;
+  };
+  pad(x0, x1);
+  pad(y0, y1);
+  const auto px = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R); };
+  const auto py = [&](double y) { return H - B - (y - y0) / (y1 - y0) * (H - T - B); };
+  o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W - L - R << "\" height=\"" << H - T - B
+    << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  for (double t : ticks(x0, x1)) {
+    o << "<line x1=\"" << px(t) << "\" x2=\"" << px(t) << "\" y1=\"" << T << "\" y2=\"" << H - B
+      << "\" stroke=\"#eee\"/><text x=\"" << px(t) << "\" y=\"" << H - B + 14 << "\" text-anchor=\"middle\">" << fmt(t, 4)
+      << "</text>\n";
+  }
+  for (double t : ticks(y0, y1)) {
+    o << "<line x1=\"" << L << "\" x2=\"" << W - R << "\" y1=\"" << py(t) << "\" y2=\"" << py(t)
+      << "\" stroke=\"#eee\"/><text x=\"" << L - 4 << "\" y=\"" << py(t) + 4 << "\" text-anchor=\"end\">" << fmt(t, 4)
+      << "</text>\n";
+  }
+  o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 10 << "\" text-anchor=\"middle\">" << esc(xlabel) << "</text>\n";
+  o << "<text transform=\"translate(14," << (T + H - B) / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << esc(ylabel)
+    << "</text>\n";
+  if (identity) {
+    o << "<line x1=\"" << px(x0) << "\" y1=\"" << py(x0) << "\" x2=\"" << px(x1) << "\" y2=\"" << py(x1)
+      << "\" stroke=\"#888\" stroke-dasharray=\"4 3\"/>\n";
+  }
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const auto& s = series[k];
+    if (s.line && s.x.size() > 1) {
+      o << "<polyline fill=\"none\" stroke=\"" << colour(k) << "\" stroke-width=\"1.5\" points=\"";
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        if (std::isfinite(s.y[i])) o << px(s.x[i]) << "," << py(s.y[i]) << " ";
+      }
+      o << "\"/>\n";
+    }
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      if (!s.ylo.empty()) {
+        o << "<line x1=\"" << px(s.x[i]) << "\" x2=\"" << px(s.x[i]) << "\" y1=\"" << py(s.ylo[i]) << "\" y2=\""
+          << py(s.yhi[i]) << "\" stroke=\"" << colour(k) << "\"/>";
+      }
+      o << "<circle cx=\"" << px(s.x[i]) << "\" cy=\"" << py(s.y[i]) << "\" r=\"3\" fill=\"" << colour(k)
+        << "\" fill-opacity=\"0.75\"/>";
+    }
+    o << "\n";
+  }
+  if (series.size() > 1 || (!series.empty() && !series[0].name.empty())) {
+    for (std::size_t k = 0; k < series.size(); ++k) {
+      const double y = T + 12 + 14 * static_cast<double>(k);
+      o << "<circle cx=\"" << L + 10 << "\" cy=\"" << y - 4 << "\" r=\"4\" fill=\"" << colour(k) << "\"/><text x=\""
+        << L + 18 << "\" y=\"" << y << "\">" << esc(series[k].name) << "</text>\n";
+    }
+  }
+  o << "</svg>\n";
+  return o.str();
+}
+
+// Horizontal bars (median) with p25-p75 whiskers, log-free, seconds.
+std::string time_plot(const std::vector<std::string>& names, const std::vector<double>& med,
+                      const std::vector<double>& lo, const std::vector<double>& hi) {
+  const double W = 560, row = 22, L = 150, R = 80, T = 30;
+  const double H = T + row * static_cast<double>(names.size()) + 36;
+  double mx = 0;
+  for (std::size_t i = 0; i < names.size(); ++i) mx = std::max(mx, std::isfinite(hi[i]) ? hi[i] : 0);
+  if (mx <= 0) mx = 1;
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H << "\" viewBox=\"0 0 " << W
+    << " " << H << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << "<text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">time per run (median, p25-p75)</text>\n";
+  const auto px = [&](double v) { return L + v / mx * (W - L - R); };
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const double y = T + row * static_cast<double>(i);
+    const double m = std::isfinite(med[i]) ? med[i] : 0;
+    o << "<text x=\"" << L - 6 << "\" y=\"" << y + 14 << "\" text-anchor=\"end\">" << esc(names[i]) << "</text>"
+      << "<rect x=\"" << L << "\" y=\"" << y + 4 << "\" width=\"" << px(m) - L << "\" height=\"" << row - 8
+      << "\" fill=\"" << colour(i) << "\"/>";
+    if (std::isfinite(lo[i]) && std::isfinite(hi[i])) {
+      o << "<line x1=\"" << px(lo[i]) << "\" x2=\"" << px(hi[i]) << "\" y1=\"" << y + row / 2 << "\" y2=\"" << y + row / 2
+        << "\" stroke=\"black\"/>";
+    }
+    o << "<text x=\"" << px(m) + 4 << "\" y=\"" << y + 14 << "\">" << fmt(m * 1e3, 3) << " ms</text>\n";
+  }
+  o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 8 << "\" text-anchor=\"middle\">seconds (0 - " << fmt(mx, 3)
+    << ")</text>\n</svg>\n";
+  return o.str();
+}
+
+std::string file_name(std::string s) {
+  for (char& c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+  }
+  return s;
+}
+
+}  // namespace
+
+Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores) {
+  Report rep;
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>grapebench: " << esc(set.base.name)
+    << "</title>\n<style>body{font-family:sans-serif;margin:24px;max-width:1500px}table{border-collapse:collapse;"
+       "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}th{background:#f3f3f3}"
+       "td.l,th.l{text-align:left}.plots{display:flex;flex-wrap:wrap;gap:8px}</style></head><body>\n";
+  h << "<h1>grapebench run: " << esc(set.base.name) << "</h1>\n<p>Scene file <code>" << esc(set.base.path) << "</code>, "
+    << cases.size() << " cases (" << set.conditions.size() << " condition(s) x "
+    << (set.conditions.empty() ? 0 : bunch_jobs(set.conditions[0].scene).size()) << " bunches). Errors are estimate - truth; "
+    << "R2 is the squared correlation (the papers'), slope/intercept of the least-squares fit estimate = a truth + b. "
+       "Volumes in cm3, lengths in mm.</p>\n";
+
+  // Scores table.
+  h << "<h2>Scores</h2>\n<table><tr><th class=l>condition</th><th class=l>estimator</th><th class=l>quantity</th>"
+       "<th>ok</th><th>R2</th><th>RMSE</th><th>MAE</th><th>bias</th><th>MAPE %</th><th>slope</th><th>intercept</th>"
+       "<th>time median ms</th></tr>\n";
+  for (const auto& r : scores) {
+    const Score& s = r.score;
+    h << "<tr><td class=l>" << esc(set.conditions[static_cast<std::size_t>(r.condition)].label) << "</td><td class=l>"
+      << esc(r.estimator) << "</td><td class=l>" << r.quantity << " (" << display_unit(r.quantity) << ")</td><td>"
+      << s.succeeded << "/" << s.cases << "</td><td>" << fmt(s.r2) << "</td><td>" << fmt(s.rmse) << "</td><td>"
+      << fmt(s.mae) << "</td><td>" << fmt(s.bias) << "</td><td>" << fmt(s.mape) << "</td><td>" << fmt(s.slope)
+      << "</td><td>" << fmt(s.intercept) << "</td><td>" << fmt(s.time_median * 1e3) << "</td></tr>\n";
+  }
+  h << "</table>\n";
+
+  // Registration table.
+  h << "<h2>Registration</h2>\n<table><tr><th class=l>condition</th><th class=l>method</th><th>cases</th>"
+       "<th>rotation error, mean of per-case max (deg)</th><th>worst (deg)</th><th>translation error, mean of max (mm)</th>"
+       "<th>failed cases</th></tr>\n";
+  for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+    double rot = 0, worst = 0, tr = 0;
+    int n = 0, failed = 0;
+    for (const auto& cr : cases) {
+      if (cr.condition != static_cast<int>(c)) continue;
+      if (!cr.ok) {
+        ++failed;
+        continue;
+      }
+      rot += cr.rotation_error_max_deg;
+      worst = std::max(worst, cr.rotation_error_max_deg);
+      tr += cr.translation_error_max_mm;
+      ++n;
+    }
+    h << "<tr><td class=l>" << esc(set.conditions[c].label) << "</td><td class=l>"
+      << set.conditions[c].scene.pipeline.registration << "</td><td>" << n << "</td><td>" << fmt(n ? rot / n : 0)
+      << "</td><td>" << fmt(worst) << "</td><td>" << fmt(n ? tr / n : 0) << "</td><td>" << failed << "</td></tr>\n";
+  }
+  h << "</table>\n";
+
+  // Estimated vs true, per estimator and quantity, coloured by condition.
+  h << "<h2>Estimated vs true</h2>\n<div class=plots>\n";
+  std::vector<std::pair<std::string, std::string>> eq;  // (estimator, quantity) in scene order
+  for (const auto& r : scores) {
+    if (std::find(eq.begin(), eq.end(), std::make_pair(r.estimator, r.quantity)) == eq.end()) eq.emplace_back(r.estimator, r.quantity);
+  }
+  for (const auto& [est, q] : eq) {
+    const double k = display_scale(q);
+    std::vector<Series> series;
+    for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+      Series s;
+      s.name = set.conditions[c].label;
+      for (const auto& cr : cases) {
+        if (cr.condition != static_cast<int>(c)) continue;
+        for (const auto& r : cr.rows) {
+          if (r.estimator == est && r.quantity == q && r.ok) {
+            s.x.push_back(r.truth * k);
+            s.y.push_back(r.estimate * k);
+          }
+        }
+      }
+      series.push_back(std::move(s));
+    }
+    const std::string unit = display_unit(q);
+    const std::string svg = plot(est + ": " + q, "true " + q + " (" + unit + ")", "estimated " + q + " (" + unit + ")",
+                                 series, true);
+    rep.svgs["scatter_" + file_name(est) + "_" + q + ".svg"] = svg;
+    h << svg;
+  }
+  h << "</div>\n";
+
+  // Error vs each swept parameter (mean relative error with its spread over bunches).
+  if (!set.base.sweep.empty()) {
+    h << "<h2>Error vs swept parameters</h2>\n<div class=plots>\n";
+    std::set<std::string> quantities;
+    for (const auto& [e, q] : eq) quantities.insert(q);
+    for (std::size_t a = 0; a < set.base.sweep.size(); ++a) {
+      const auto& axis = set.base.sweep[a];
+      for (const auto& q : quantities) {
+        std::vector<Series> series;
+        for (const auto& [est, qq] : eq) {
+          if (qq != q) continue;
+          Series s;
+          s.name = est;
+          s.line = true;
+          for (double v : axis.values) {
+            std::vector<double> rel;
+            for (const auto& cr : cases) {
+              if (set.conditions[static_cast<std::size_t>(cr.condition)].values[a] != v) continue;
+              for (const auto& r : cr.rows) {
+                if (r.estimator == est && r.quantity == q && r.ok) rel.push_back(100 * (r.estimate / r.truth - 1));
+              }
+            }
+            double m = std::numeric_limits<double>::quiet_NaN(), sd = 0;
+            if (!rel.empty()) {
+              m = 0;
+              for (double x : rel) m += x;
+              m /= static_cast<double>(rel.size());
+              for (double x : rel) sd += (x - m) * (x - m);
+              sd = rel.size() > 1 ? std::sqrt(sd / static_cast<double>(rel.size() - 1)) : 0;
+            }
+            s.x.push_back(v);
+            s.y.push_back(m);
+            s.ylo.push_back(m - sd);
+            s.yhi.push_back(m + sd);
+          }
+          series.push_back(std::move(s));
+        }
+        const std::string svg = plot(q + " error vs " + axis.key, axis.key,
+                                     q + " error, % (mean +- sd over bunches)", series, false);
+        rep.svgs["sweep_" + file_name(axis.key) + "_" + q + ".svg"] = svg;
+        h << svg;
+      }
+    }
+    h << "</div>\n";
+  }
+
+  // Time per estimator (all conditions pooled).
+  {
+    std::vector<std::string> names;
+    std::vector<double> med, lo, hi;
+    std::vector<std::string> seen;
+    for (const auto& r : scores) {
+      if (std::find(seen.begin(), seen.end(), r.estimator) != seen.end()) continue;
+      seen.push_back(r.estimator);
+      std::vector<double> t;
+      for (const auto& cr : cases) {
+        if (!cr.ok) continue;
+        for (const auto& row : cr.rows) {
+          if (row.estimator == r.estimator && row.quantity == r.quantity) t.push_back(row.seconds);
+        }
+      }
+      std::sort(t.begin(), t.end());
+      const auto qtl = [&](double p) {
+        return t.empty() ? std::numeric_limits<double>::quiet_NaN() : t[static_cast<std::size_t>(p * static_cast<double>(t.size() - 1) + 0.5)];
+      };
+      names.push_back(r.estimator);
+      med.push_back(qtl(0.5));
+      lo.push_back(qtl(0.25));
+      hi.push_back(qtl(0.75));
+    }
+    const std::string svg = time_plot(names, med, lo, hi);
+    rep.svgs["time.svg"] = svg;
+    h << "<h2>Time per estimator</h2>\n" << svg;
+  }
+
+  // Failures, if any.
+  std::ostringstream fails;
+  for (const auto& cr : cases) {
+    if (!cr.ok) {
+      fails << "<tr><td>" << cr.condition << "</td><td>" << cr.bunch << "</td><td class=l>scan/registration</td><td class=l>"
+            << esc(cr.error) << "</td></tr>\n";
+      continue;
+    }
+    for (const auto& r : cr.rows) {
+      if (!r.ok) {
+        fails << "<tr><td>" << cr.condition << "</td><td>" << cr.bunch << "</td><td class=l>" << esc(r.estimator)
+              << "</td><td class=l>" << esc(r.error) << "</td></tr>\n";
+      }
+    }
+  }
+  if (!fails.str().empty()) {
+    h << "<h2>Failures</h2>\n<table><tr><th>condition</th><th>bunch</th><th class=l>step</th><th class=l>error</th></tr>\n"
+      << fails.str() << "</table>\n";
+  }
+  h << "<p>Files: results.csv (one row per case, estimator and quantity), timings.csv, summary.json, timings.json, "
+       "manifest.json (all parameters with defaults, seeds, commit, machine), plots/*.svg.</p>\n</body></html>\n";
+  rep.html = h.str();
+  return rep;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,20 @@
+// The self-contained HTML report of a run, with its plots as SVG.
+#pragma once
+
+#include "bench/runner.h"
+
+#include <map>
+#include <string>
+
+namespace grapebench {
+
+struct Report {
+  std::string html;                          // inline SVG, no external files or scripts
+  std::map<std::string, std::string> svgs;   // the same plots as files: name -> SVG text
+};
+
+// Plots: estimated vs true per estimator and quantity, error vs each swept
+// parameter, time per estimator; tables of scores and registration.
+Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores);
+
+}  // namespace grapebench

@@ -1,0 +1,79 @@
+#include "bench/scoring.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace grapebench {
+
+namespace {
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(v.begin(), v.end());
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const auto hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+}  // namespace
+
+Score score(const std::vector<double>& est, const std::vector<double>& truth, int cases,
+            const std::vector<double>& seconds) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Score s;
+  s.cases = cases;
+  s.succeeded = static_cast<int>(est.size());
+  s.success_rate = cases > 0 ? static_cast<double>(s.succeeded) / cases : nan;
+  s.time_median = quantile(seconds, 0.5);
+  s.time_p25 = quantile(seconds, 0.25);
+  s.time_p75 = quantile(seconds, 0.75);
+  const std::size_t n = est.size();
+  if (n == 0) {
+    s.r2 = s.r2_identity = s.rmse = s.mae = s.bias = s.mape = s.slope = s.intercept = nan;
+    return s;
+  }
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    mx += truth[i];
+    my += est[i];
+  }
+  mx /= static_cast<double>(n);
+  my /= static_cast<double>(n);
+  double sxx = 0, syy = 0, sxy = 0, se2 = 0, sae = 0, sb = 0, sape = 0, sst = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = truth[i] - mx, dy = est[i] - my, e = est[i] - truth[i];
+    sxx += dx * dx;
+    syy += dy * dy;
+    sxy += dx * dy;
+    se2 += e * e;
+    sae += std::abs(e);
+    sb += e;
+    sape += truth[i] != 0 ? std::abs(e / truth[i]) : nan;
+    sst += dx * dx;
+  }
+  const double dn = static_cast<double>(n);
+  s.rmse = std::sqrt(se2 / dn);
+  s.mae = sae / dn;
+  s.bias = sb / dn;
+  s.mape = 100 * sape / dn;
+  if (sxx > 0 && syy > 0) {
+    s.r2 = sxy * sxy / (sxx * syy);
+  } else {
+    s.r2 = nan;
+  }
+  s.r2_identity = sst > 0 ? 1 - se2 / sst : nan;
+  if (sxx > 0) {
+    s.slope = sxy / sxx;
+    s.intercept = my - s.slope * mx;
+  } else {
+    s.slope = s.intercept = nan;
+  }
+  return s;
+}
+
+const char* display_unit(const std::string& q) { return q == "volume" ? "cm3" : "mm"; }
+double display_scale(const std::string& q) { return q == "volume" ? 1e6 : 1e3; }
+
+}  // namespace grapebench
