@@ -2,6 +2,7 @@
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <pcl/features/normal_3d.h>
 #include <pcl/registration/icp.h>
 
 #include <Eigen/Eigenvalues>
@@ -21,6 +22,48 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const PointCloud& c) {
                                                         static_cast<float>(c(i, 2)));
   }
   return out;
+}
+
+pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const PointCloud& c) {
+  const auto xyz = to_pcl(c);
+  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+  ne.setInputCloud(xyz);
+  ne.setSearchMethod(pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+  ne.setKSearch(20);
+  pcl::PointCloud<pcl::Normal> normals;
+  ne.compute(normals);
+  auto out = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
+  out->resize(xyz->size());
+  for (std::size_t i = 0; i < xyz->size(); ++i) {
+    auto& p = (*out)[i];
+    p.x = (*xyz)[i].x;
+    p.y = (*xyz)[i].y;
+    p.z = (*xyz)[i].z;
+    // Degenerate neighbourhoods give NaN normals: a zero normal drops the point's
+    // plane term rather than poisoning the solve.
+    const bool ok = std::isfinite(normals[i].normal_x);
+    p.normal_x = ok ? normals[i].normal_x : 0.0f;
+    p.normal_y = ok ? normals[i].normal_y : 0.0f;
+    p.normal_z = ok ? normals[i].normal_z : 0.0f;
+    p.curvature = ok ? normals[i].curvature : 0.0f;
+  }
+  return out;
+}
+
+template <class Icp>
+IcpResult run_icp(Icp& icp, const IcpParams& p, const Eigen::Isometry3d& initial) {
+  icp.setMaxCorrespondenceDistance(p.max_correspondence_distance);
+  icp.setMaximumIterations(p.max_iterations);
+  icp.setTransformationEpsilon(p.transformation_epsilon);
+  icp.setEuclideanFitnessEpsilon(p.fitness_epsilon);
+  typename Icp::PointCloudSource aligned;
+  icp.align(aligned, initial.matrix());
+  IcpResult r;
+  r.converged = icp.hasConverged();
+  r.transform.matrix() = icp.getFinalTransformation();
+  // PCL's fitness counts only pairs closer than the correspondence distance.
+  r.fitness = icp.getFitnessScore(p.max_correspondence_distance);
+  return r;
 }
 
 PointCloud transformed(const PointCloud& c, const Eigen::Isometry3d& t) {
@@ -53,21 +96,16 @@ IcpResult icp_align(const PointCloud& source, const PointCloud& target, const Ei
       p.max_iterations > 10000) {
     throw InputError("icp: max_correspondence_distance must lie in [1e-4, 1] m and max_iterations in [1, 10000]");
   }
+  if (p.point_to_plane) {
+    pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal, double> icp;
+    icp.setInputSource(with_normals(source));
+    icp.setInputTarget(with_normals(target));
+    return run_icp(icp, p, initial);
+  }
   pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ, double> icp;
   icp.setInputSource(to_pcl(source));
   icp.setInputTarget(to_pcl(target));
-  icp.setMaxCorrespondenceDistance(p.max_correspondence_distance);
-  icp.setMaximumIterations(p.max_iterations);
-  icp.setTransformationEpsilon(p.transformation_epsilon);
-  icp.setEuclideanFitnessEpsilon(p.fitness_epsilon);
-  pcl::PointCloud<pcl::PointXYZ> aligned;
-  icp.align(aligned, initial.matrix());
-  IcpResult r;
-  r.converged = icp.hasConverged();
-  r.transform.matrix() = icp.getFinalTransformation();
-  // PCL's fitness counts only pairs closer than the correspondence distance.
-  r.fitness = icp.getFitnessScore(p.max_correspondence_distance);
-  return r;
+  return run_icp(icp, p, initial);
 }
 
 Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& target) {
@@ -200,8 +238,11 @@ double rotation_error_deg(const Eigen::Isometry3d& estimate, const Eigen::Isomet
   return std::acos(c) * 180 / M_PI;
 }
 
-double translation_error(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
-  return (estimate.inverse() * truth).translation().norm();
+double centroid_displacement(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth,
+                             const PointCloud& points) {
+  if (points.rows() == 0) return 0;
+  const Vec3 c = points.colwise().mean().transpose();
+  return (estimate * c - truth * c).norm();
 }
 
 }  // namespace grapebench

@@ -14,10 +14,13 @@ namespace grapebench {
 struct IcpParams {
   // Correspondences farther apart than this are dropped, m, [1e-4, 1]. Seeds 000/002
   // give no value; 10 mm is about a third of a berry.
-  double max_correspondence_distance = 0.01;
+  double max_correspondence_distance = 0.003;
   int max_iterations = 50;              // [1, 10000]
   double transformation_epsilon = 1e-9;  // squared change of the transform to stop, [0, 1]
   double fitness_epsilon = 1e-10;        // change of the mean squared error to stop (m2), [0, 1]
+  // Point-to-plane error (normals from the 20 nearest neighbours, PCL) instead of
+  // the papers' point-to-point: partial views slide less.
+  bool point_to_plane = false;
 };
 
 struct IcpResult {
@@ -26,7 +29,7 @@ struct IcpResult {
   double fitness = 0;  // mean squared distance of the correspondences, m2
 };
 
-// Point-to-point ICP (PCL's IterativeClosestPoint) from `initial`. Throws InputError
+// ICP (PCL's IterativeClosestPoint, or ...WithNormals for point-to-plane) from `initial`. Throws InputError
 // for clouds with fewer than 3 points or non-finite points.
 IcpResult icp_align(const PointCloud& source, const PointCloud& target, const Eigen::Isometry3d& initial,
                     const IcpParams& params);
@@ -66,8 +69,12 @@ RegistrationResult register_known_angle(const std::vector<RegistrationView>& vie
 // The papers' baseline: every view ICP'd from the identity onto the merged cloud so far.
 RegistrationResult register_plain_icp(const std::vector<RegistrationView>& views, const IcpParams& icp);
 
-// Rotation angle (deg) and translation (m) of estimate^-1 * truth.
+// Rotation angle of estimate^-1 * truth, deg.
 double rotation_error_deg(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth);
-double translation_error(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth);
+// How far the estimate puts the centroid of `points` (the view's own frame) from
+// where the truth puts it, m: the translation error where the bunch is, not at the
+// camera (a small rotation error moves a camera 1 m away by much more).
+double centroid_displacement(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth,
+                             const PointCloud& points);
 
 }  // namespace grapebench

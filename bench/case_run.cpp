@@ -159,7 +159,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
       double rsum = 0, tsum = 0;
       for (std::size_t k = 1; k < views.size(); ++k) {
         const Eigen::Isometry3d truth = t0_inv * scan.views[k].rig.pose;
-        const double re = rotation_error_deg(reg.poses[k], truth), te = translation_error(reg.poses[k], truth) * 1e3;
+        const double re = rotation_error_deg(reg.poses[k], truth), te = centroid_displacement(reg.poses[k], truth, views[k].points) * 1e3;
         rsum += re;
         tsum += te;
         r.rotation_error_max_deg = std::max(r.rotation_error_max_deg, re);

@@ -80,8 +80,8 @@ std::string run_help() {
   s << "A scene for `run` adds to the sections of `scan` (see `grapebench scan --help`):\n\n"
        "pipeline:   segmentation: labels (the ground-truth bunch labels; an oracle)\n"
        "            registration: true_poses | seed000_pca_icp | known_angle_icp | plain_icp\n"
-       "            icp: {max_correspondence_distance 0.01 m [1e-4,1], max_iterations 50 [1,10000],\n"
-       "                  transformation_epsilon 1e-9, fitness_epsilon 1e-10}\n"
+       "            icp: {max_correspondence_distance 0.003 m [1e-4,1], max_iterations 50 [1,10000],\n"
+       "                  transformation_epsilon 1e-9, fitness_epsilon 1e-10, point_to_plane false}\n"
        "            group_size 3 [1,360] (seed 000), bottom_band 0.03 m (seed 002), angle_error_sd_deg 0 [0,45],\n"
        "            min_points 100 (fewer bunch points fail the case)\n"
        "estimators: a list of {type, name (optional column name), parameters}; types:\n";

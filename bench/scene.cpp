@@ -18,7 +18,8 @@ nlohmann::ordered_json PipelineSpec::describe() const {
            {{"max_correspondence_distance_m", icp.max_correspondence_distance},
             {"max_iterations", icp.max_iterations},
             {"transformation_epsilon", icp.transformation_epsilon},
-            {"fitness_epsilon_m2", icp.fitness_epsilon}}},
+            {"fitness_epsilon_m2", icp.fitness_epsilon},
+            {"point_to_plane", icp.point_to_plane}}},
           {"group_size", group_size},
           {"bottom_band_m", bottom_band},
           {"angle_error_sd_deg", angle_error_sd_deg},
@@ -39,6 +40,7 @@ PipelineSpec read_pipeline(const ConfigNode& n) {
     p.icp.max_iterations = static_cast<int>(i.get_int("max_iterations", p.icp.max_iterations, 1, 10000));
     p.icp.transformation_epsilon = i.get_real("transformation_epsilon", p.icp.transformation_epsilon, 0, 1);
     p.icp.fitness_epsilon = i.get_real("fitness_epsilon", p.icp.fitness_epsilon, 0, 1);
+    p.icp.point_to_plane = i.get_bool("point_to_plane", p.icp.point_to_plane);
   }
   p.group_size = static_cast<int>(n.get_int("group_size", p.group_size, 1, 360));
   p.bottom_band = n.get_real("bottom_band", p.bottom_band, 0.001, 0.5);
@@ -142,6 +144,10 @@ void substitute(YAML::Node node, const std::string& path, const YAML::Node& valu
     }
     head = head.substr(0, br);
   }
+  if (node.IsMap() && !node[head] && rest.empty() && index < 0) {
+    node[head] = value;  // a key left at its default; an unknown key is reported by the parser
+    return;
+  }
   if (!node.IsMap() || !node[head]) {
     throw InputError(where + ": sweep key '" + path + "': the scene has no '" + head +
                      "' here; sweep a key the scene sets (write its nominal value in the scene)");
@@ -177,9 +183,19 @@ std::string number_label(double v) {
   return s.str();
 }
 
-SceneSet expand(const YAML::Node& root_yaml, const std::string& name) {
+YAML::Node parse_yaml(const std::string& text, const std::string& name) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  }
+}
+
+// Each condition re-parses the text (YAML::Clone would drop the line marks).
+SceneSet expand(const std::string& text, const std::string& name) {
   SceneSet set;
-  set.base = read_scene(ConfigNode::from_yaml(YAML::Clone(root_yaml), name), name);
+  const YAML::Node root_yaml = parse_yaml(text, name);
+  set.base = read_scene(ConfigNode::from_yaml(root_yaml, name), name);
   if (set.base.sweep.empty()) {
     set.conditions.push_back({{}, "", set.base});
     return set;
@@ -190,7 +206,7 @@ SceneSet expand(const YAML::Node& root_yaml, const std::string& name) {
   const std::string sweep_line = ConfigNode::from_yaml(root_yaml, name).where("sweep");
   for (std::size_t flat = 0; flat < total; ++flat) {
     Condition c;
-    YAML::Node doc = YAML::Clone(root_yaml);
+    YAML::Node doc = parse_yaml(text, name);
     doc.remove("sweep");
     std::size_t rest = flat;
     std::vector<std::size_t> idx(set.base.sweep.size());
@@ -221,19 +237,9 @@ SceneSet expand(const YAML::Node& root_yaml, const std::string& name) {
   return set;
 }
 
-YAML::Node parse_yaml(const std::string& text, const std::string& name) {
-  try {
-    return YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  }
-}
-
 }  // namespace
 
-SceneSet parse_scene_set(const std::string& text, const std::string& name) {
-  return expand(parse_yaml(text, name), name);
-}
+SceneSet parse_scene_set(const std::string& text, const std::string& name) { return expand(text, name); }
 
 SceneSet load_scene_set(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

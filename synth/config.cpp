@@ -221,7 +221,9 @@ void ConfigNode::report_unused() const {
       const std::string k = kv.first.Scalar();
       if (!n.used->count(k)) {
         const std::string name = n.path.empty() ? k : n.path + "." + k;
-        errors += (errors.empty() ? "" : "\n") + state_->file + ":" + line_of(kv.first) +
+        // A key inserted by a sweep has no line of its own; its value has.
+        const YAML::Node& at = kv.first.Mark().line >= 0 ? kv.first : kv.second;
+        errors += (errors.empty() ? "" : "\n") + state_->file + ":" + line_of(at) +
                   ": unknown key '" + name + "'";
       }
     }

@@ -73,8 +73,20 @@ TEST(Cli, ScanWritesEveryFileOfEveryView) {
 TEST(Cli, RunOnTheDefaultSuiteSummarises) {
   const CommandResult r = run_cli("run " GRAPEBENCH_SOURCE_DIR "/scenes/default.yaml --out /tmp/grapebench_cli_run");
   EXPECT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("table-red"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("wine-red"), std::string::npos) << r.out;
+  // The leaderboard names every estimator of the suite, and the files are there.
+  for (const char* name : {"GM", "CH", "AS", "VB_10mm", "VB_5mm", "PCA_box", "report.html"}) {
+    EXPECT_NE(r.out.find(name), std::string::npos) << name << "\n" << r.out;
+  }
+  EXPECT_NE(r.out.find("7/7"), std::string::npos) << r.out;
+}
+
+TEST(Cli, CheckExitsOneOnARegressionAndZeroOtherwise) {
+  const CommandResult run = run_cli("run " GRAPEBENCH_SOURCE_DIR "/scenes/default.yaml --out /tmp/grapebench_cli_run --quiet");
+  ASSERT_EQ(run.status, 0) << run.out;
+  const std::string summary = "/tmp/grapebench_cli_run/default/summary.json";
+  EXPECT_EQ(run_cli("check " + summary + " --baseline " + summary).status, 0);
+  EXPECT_EQ(run_cli("check /tmp/grapebench_cli_run/default --baseline " GRAPEBENCH_SOURCE_DIR
+                    "/tests/bench/data/perturbed_baseline.json").status, 1);
 }
 
 }  // namespace

@@ -1,0 +1,200 @@
+// The harness: sweeps, strict estimator sections, resume, shards, determinism, check.
+#include "bench/check.h"
+#include "bench/runner.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace grapebench {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A small but real scene: 3 bunches, a 4-view ideal-free Kinect turntable, fast estimators.
+const char* kScene = R"(name: tiny
+seed: 5
+bunches:
+  - preset: summer-black
+    count: 3
+sensor:
+  type: kinect_v2
+  width: 256
+  height: 212
+rig:
+  type: turntable
+  views: 4
+  step_deg: 90
+estimators:
+  - type: convex_hull
+    name: CH
+  - type: voxel
+    name: VB
+    voxel_size: 0.006
+  - type: pca_box
+)";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(testing::TempDir()) / ("grapebench_run_test_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+std::string error_of(const std::string& yaml) {
+  try {
+    parse_scene_set(yaml, "scene.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+RunOptions quiet(const fs::path& out, int threads = 1) {
+  RunOptions o;
+  o.out = out;
+  o.threads = threads;
+  o.quiet = true;
+  return o;
+}
+
+TEST(Sweep, ExpandsTheProductFirstAxisSlowest) {
+  const SceneSet s = parse_scene_set(std::string(kScene) +
+                                         "sweep:\n  sensor.noise_scale: [0, 2]\n"
+                                         "  estimators[1].voxel_size: {from: 0.004, to: 0.008, step: 0.002}\n",
+                                     "s.yaml");
+  ASSERT_EQ(s.conditions.size(), 6u);
+  EXPECT_EQ(s.conditions[0].label, "noise_scale=0 voxel_size=0.004");
+  EXPECT_EQ(s.conditions[5].label, "noise_scale=2 voxel_size=0.008");
+  EXPECT_DOUBLE_EQ(s.conditions[4].scene.estimators[1].params["voxel_size"].get<double>(), 0.006);
+  EXPECT_EQ(s.conditions[3].scene.sensor->describe()["noise_scale"].get<double>(), 2.0);
+  // The same bunches in every condition (paired comparisons).
+  EXPECT_EQ(bunch_jobs(s.conditions[0].scene)[2].seed, bunch_jobs(s.conditions[5].scene)[2].seed);
+}
+
+TEST(Sweep, BadValuesNameTheLineTheyWereWrittenOn) {
+  const std::string m = error_of(std::string(kScene) + "sweep:\n  sensor.noise_scale: [0, 1,\n     50]\n");
+  EXPECT_NE(m.find("scene.yaml:23"), std::string::npos) << m;
+  EXPECT_NE(m.find("[0, 20]"), std::string::npos) << m;
+  EXPECT_NE(m.find("sweep point noise_scale=50"), std::string::npos) << m;
+  const std::string unknown = error_of(std::string(kScene) + "sweep:\n  sensor.nosie_scale: [0, 1]\n");
+  EXPECT_NE(unknown.find("scene.yaml:22: unknown key 'sensor.nosie_scale'"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("nosie_scale"), std::string::npos) << unknown;
+  EXPECT_NE(error_of(std::string(kScene) + "sweep:\n  rig.views: {from: 1, to: 4}\n").find("from, to and step"),
+            std::string::npos);
+}
+
+TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
+  std::string m = error_of(std::string(kScene) + "  - type: alpha_shape\n    alpha: 50\n");
+  EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
+  EXPECT_NE(m.find("alpha"), std::string::npos) << m;
+  EXPECT_NE(m.find("[0.0001, 10]"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "  - type: poisson_magic\n");
+  EXPECT_NE(m.find("scene.yaml:21"), std::string::npos) << m;
+  EXPECT_NE(m.find("allowed: pca_box"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "  - type: voxel\n    voxle_size: 0.01\n");
+  EXPECT_NE(m.find("unknown key 'estimators[3].voxle_size'"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "  - type: voxel\n    name: CH\n");
+  EXPECT_NE(m.find("used twice"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "pipeline:\n  registration: magic\n");
+  EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
+  EXPECT_NE(m.find("allowed: true_poses"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "pipeline:\n  icp:\n    max_iterations: 0\n");
+  EXPECT_NE(m.find("pipeline.icp.max_iterations"), std::string::npos) << m;
+  EXPECT_NE(m.find("[1, 10000]"), std::string::npos) << m;
+}
+
+TEST(Run, ScoresEveryEstimatorAndWritesAllFiles) {
+  const fs::path out = fresh_dir("files");
+  const RunOutcome r = run_scene_set(parse_scene_set(kScene, "tiny.yaml"), quiet(out));
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(r.cases, 3);
+  for (const char* f : {"results.csv", "timings.csv", "summary.json", "timings.json", "manifest.json", "report.html",
+                        "plots/scatter_CH_volume.svg", "plots/time.svg"}) {
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  }
+  // 3 bunches x (CH + VB + 3 box quantities) rows plus the header.
+  const std::string csv = slurp(out / "results.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 5);
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  ASSERT_EQ(summary["scores"].size(), 5u);
+  for (const auto& row : summary["scores"]) {
+    EXPECT_EQ(row["succeeded"].get<int>(), 3) << row.dump();
+    EXPECT_TRUE(row["rmse"].is_number()) << row.dump();
+  }
+  // The convex hull of a partial surface scan of a bunch exceeds its solid volume.
+  EXPECT_GT(summary["scores"][0]["bias"].get<double>(), 0);
+  EXPECT_NE(slurp(out / "report.html").find("<svg"), std::string::npos);
+}
+
+TEST(Run, InterruptedRunsResumeToTheSameResultsAndThreadsDoNotMatter) {
+  const SceneSet set = parse_scene_set(kScene, "tiny.yaml");
+  const fs::path a = fresh_dir("whole"), b = fresh_dir("resumed");
+  run_scene_set(set, quiet(a, 1));
+  // A run killed after one case: only that case file exists (plus a stray temp file).
+  run_scene_set(set, quiet(b, 2));
+  const std::string results = slurp(b / "results.csv");
+  for (const auto& e : fs::directory_iterator(b / "cases")) {
+    if (e.path().filename() != "c0000_b0001.json") fs::remove(e.path());
+  }
+  fs::remove(b / "results.csv");
+  { std::ofstream(b / "cases" / "c0000_b0002.json.tmp") << "{ half"; }
+  const RunOutcome r = run_scene_set(set, quiet(b, 2));
+  EXPECT_EQ(r.reused, 1);
+  EXPECT_EQ(r.computed, 2);
+  EXPECT_EQ(slurp(b / "results.csv"), slurp(a / "results.csv"));
+  EXPECT_EQ(slurp(b / "summary.json"), slurp(a / "summary.json"));
+  // A damaged case file is recomputed, not read.
+  { std::ofstream(b / "cases" / "c0000_b0000.json") << "{\"format\": \"grapebench-case-1\", \"key\""; }
+  EXPECT_EQ(run_scene_set(set, quiet(b, 2)).computed, 1);
+  EXPECT_EQ(slurp(b / "results.csv"), results);
+}
+
+TEST(Run, TwoShardsMergedEqualTheUnshardedRun) {
+  const SceneSet set = parse_scene_set(kScene, "tiny.yaml");
+  const fs::path whole = fresh_dir("unsharded"), s0 = fresh_dir("shard0"), s1 = fresh_dir("shard1"),
+                 merged = fresh_dir("merged");
+  run_scene_set(set, quiet(whole));
+  RunOptions o0 = quiet(s0), o1 = quiet(s1);
+  o0.shard_count = o1.shard_count = 2;
+  o1.shard_index = 1;
+  const RunOutcome r0 = run_scene_set(set, o0);
+  EXPECT_FALSE(r0.complete);
+  EXPECT_EQ(r0.computed, 2);
+  EXPECT_EQ(run_scene_set(set, o1).computed, 1);
+  EXPECT_THROW(merge_shards(set, {s0}, quiet(merged)), InputError);  // shard 1 missing
+  merge_shards(set, {s0, s1}, quiet(merged));
+  EXPECT_EQ(slurp(merged / "results.csv"), slurp(whole / "results.csv"));
+  EXPECT_EQ(slurp(merged / "summary.json"), slurp(whole / "summary.json"));
+}
+
+TEST(Check, FailsOnAPerturbedBaselineAndPassesOnTheTrueOne) {
+  const fs::path out = fresh_dir("check");
+  run_scene_set(parse_scene_set(kScene, "tiny.yaml"), quiet(out));
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  const CheckResult same = check_against_baseline(summary, summary);
+  EXPECT_TRUE(same.pass) << same.diff;
+  EXPECT_EQ(same.rows_compared, 5);
+  // A baseline that was better than this run (RMSE 20 % lower): a regression.
+  nlohmann::json better = summary;
+  better["scores"][1]["rmse"] = summary["scores"][1]["rmse"].get<double>() * 0.8;
+  const CheckResult worse = check_against_baseline(summary, better);
+  EXPECT_FALSE(worse.pass);
+  EXPECT_NE(worse.diff.find("VB volume: RMSE"), std::string::npos) << worse.diff;
+  // A row that disappeared is a regression too; one that is new is not.
+  nlohmann::json fewer = summary;
+  fewer["scores"].erase(0);
+  EXPECT_TRUE(check_against_baseline(summary, fewer).pass);
+  EXPECT_FALSE(check_against_baseline(fewer, summary).pass);
+}
+
+}  // namespace
+}  // namespace grapebench
