@@ -4,6 +4,7 @@
 #include "algorithms/convex_hull_volume.h"
 #include "algorithms/cylinder_model_volume.h"
 #include "algorithms/pca_box.h"
+#include "algorithms/poisson_volume.h"
 #include "algorithms/voxel_volume.h"
 #include "sensors/kinect_v2.h"
 #include "sensors/scan.h"
@@ -64,8 +65,11 @@ void BM_VB_10mm(benchmark::State& s) { run(s, [](const PointCloud& c) { return v
 void BM_VB_5mm(benchmark::State& s) { run(s, [](const PointCloud& c) { return voxel_volume(c, {0.005, true, 2e8}).volume; }); }
 void BM_AS_25mm(benchmark::State& s) { run(s, [](const PointCloud& c) { return alpha_shape_volume(c, {0.025}).volume; }); }
 
+void BM_PB_depth8(benchmark::State& s) { run(s, [](const PointCloud& c) { return poisson_volume(c).volume; }); }
+
 }  // namespace
 
+BENCHMARK(BM_PB_depth8)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PcaBox)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GM)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CH)->Unit(benchmark::kMillisecond);
