@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <map>
+#include <mutex>
 
 namespace grapebench {
 
@@ -62,7 +63,13 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p) {
   poisson.setOutputPolygons(false);
   poisson.setThreads(1);  // deterministic
   pcl::PolygonMesh mesh;
-  poisson.reconstruct(mesh);
+  {
+    // PCL's Poisson (PoissonRecon 3rd party) keeps static state: two reconstructions
+    // at once crash. Runs of the harness in parallel wait here.
+    static std::mutex one_at_a_time;
+    std::lock_guard<std::mutex> lock(one_at_a_time);
+    poisson.reconstruct(mesh);
+  }
   pcl::PointCloud<pcl::PointXYZ> verts;
   pcl::fromPCLPointCloud2(mesh.cloud, verts);
   VolumeEstimate e;

@@ -18,6 +18,7 @@ struct PoissonParams {
 // (Eq. 11). `watertight` is true when every edge has exactly two triangles with
 // opposite orientations; otherwise the sum is still reported, and says so in notes.
 // Throws InputError on degenerate clouds (fewer than 4 points, non-finite, coplanar).
+// PCL's Poisson is not reentrant: concurrent calls are serialised by a lock.
 VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& params = {});
 
 // Signed volume of a triangle mesh (Eq. 11) and the closed-manifold test.

@@ -3,9 +3,13 @@
 #include "algorithms/alpha_shape_volume.h"
 #include "algorithms/convex_hull_volume.h"
 #include "algorithms/cylinder_model_volume.h"
+#include "algorithms/external_estimator.h"
 #include "algorithms/pca_box.h"
 #include "algorithms/poisson_volume.h"
 #include "algorithms/voxel_volume.h"
+
+#include <algorithm>
+#include <filesystem>
 
 namespace grapebench {
 
@@ -85,9 +89,46 @@ const std::vector<EstimatorEntry> kEntries = {
        p["mls_order"] = q.mls.polynomial_order;
        return [q](const PointCloud& c) { return volume_only(poisson_volume(c, q)); };
      }},
+    {"external", "an external program through the JSON protocol (algorithms/README.md); set `quantities`",
+     {},  // the scene's `quantities` list; filled in by make_estimator
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundEstimator {
+       ExternalParams x;
+       if (!n.has("command")) n.fail("command", "missing: the program and its arguments, e.g. [python3, my.py]");
+       x.command = n.get_string_list("command", 1);
+       const std::string scene_dir = std::filesystem::path(n.file()).parent_path().string();
+       for (auto& a : x.command) {
+         for (auto at = a.find("{scene_dir}"); at != std::string::npos; at = a.find("{scene_dir}")) {
+           a.replace(at, 11, scene_dir.empty() ? "." : scene_dir);
+         }
+       }
+       x.quantities = external_quantities(n);
+       x.timeout = n.get_real("timeout", x.timeout, 0.1, 86400);
+       p["command"] = x.command;
+       nlohmann::ordered_json q = nlohmann::ordered_json::array();
+       for (Quantity k : x.quantities) q.push_back(quantity_name(k));
+       p["quantities"] = q;
+       p["timeout_s"] = x.timeout;
+       return [x](const PointCloud& c) { return external_estimate(c, x); };
+     }},
 };
 
 }  // namespace
+
+std::vector<Quantity> external_quantities(const ConfigNode& n) {
+  std::vector<Quantity> out;
+  if (!n.has("quantities")) return {Quantity::Volume};
+  for (const auto& name : n.get_string_list("quantities", 1)) {
+    bool found = false;
+    for (Quantity q : {Quantity::Volume, Quantity::Height, Quantity::Length, Quantity::Width}) {
+      if (name == quantity_name(q)) {
+        if (std::find(out.begin(), out.end(), q) == out.end()) out.push_back(q);
+        found = true;
+      }
+    }
+    if (!found) n.fail("quantities", "unknown quantity '" + name + "'; allowed: volume, height, length, width");
+  }
+  return out;
+}
 
 const std::vector<EstimatorEntry>& estimator_registry() { return kEntries; }
 

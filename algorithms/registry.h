@@ -39,6 +39,8 @@ struct EstimatorEntry {
 };
 
 const std::vector<EstimatorEntry>& estimator_registry();
+// The `quantities` an external estimator's scene entry declares (default: volume).
+std::vector<Quantity> external_quantities(const ConfigNode& node);
 std::vector<std::string> estimator_types();
 // Looks up node["type"]; unknown types name file:line and the registered ones.
 const EstimatorEntry& find_estimator(const ConfigNode& node);

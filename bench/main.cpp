@@ -1,4 +1,5 @@
 // grapebench: the command-line program.
+#include "bench/bench_compare.h"
 #include "bench/check.h"
 #include "bench/runner.h"
 #include "bench/scan_run.h"
@@ -181,6 +182,20 @@ int main(int argc, char** argv) {
   check->add_option("--baseline", check_baseline, "Baseline summary (results/baseline/<suite>.json)")->required()
       ->check(CLI::ExistingFile);
 
+  // grapebench compare-bench
+  auto* cmp = app.add_subcommand("compare-bench", "Compare two Google Benchmark JSON files; exit 1 on a slowdown");
+  std::string cmp_old, cmp_new;
+  double cmp_threshold = 0.10;
+  cmp->add_option("baseline", cmp_old, "JSON of the reference (e.g. the previous commit)")->required()->check(CLI::ExistingFile);
+  cmp->add_option("contender", cmp_new, "JSON of the new build")->required()->check(CLI::ExistingFile);
+  cmp->add_option("--threshold", cmp_threshold, "Flag ratios above 1 + threshold")->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  cmp->footer(
+      "Run both builds on the same machine with --benchmark_repetitions=9\n"
+      "--benchmark_enable_random_interleaving=true --benchmark_out=<file>.json. A benchmark is flagged\n"
+      "SLOWER when the ratio of medians exceeds 1 + threshold and (with 3+ repetitions each) the\n"
+      "Mann-Whitney U test gives p < 0.05.");
+
   // grapebench scan
   auto* scan = app.add_subcommand("scan", "Scan a scene's bunches with its sensor and rig");
   std::string scan_scene;
@@ -253,6 +268,24 @@ int main(int argc, char** argv) {
       std::cout << r.leaderboard;
       std::printf("merged %d cases into %s\n", r.cases, merge_out.c_str());
       return 0;
+    }
+    if (cmp->parsed()) {
+      const auto read = [](const std::string& f) {
+        std::ifstream in(f, std::ios::binary);
+        try {
+          return nlohmann::json::parse(in);
+        } catch (const std::exception& e) {
+          throw InputError(f + ": not a Google Benchmark JSON file: " + e.what());
+        }
+      };
+      BenchComparison c;
+      try {
+        c = compare_benchmarks(read(cmp_old), read(cmp_new), cmp_threshold);
+      } catch (const nlohmann::json::exception& e) {
+        throw InputError("compare-bench: a file lacks Google Benchmark fields: " + std::string(e.what()));
+      }
+      std::cout << c.table;
+      return c.slower ? 1 : 0;
     }
     if (check->parsed()) {
       std::filesystem::path p = check_run;

@@ -55,7 +55,7 @@ std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
     const EstimatorEntry& entry = find_estimator(n);
     EstimatorSpec e;
     e.type = entry.type;
-    e.quantities = entry.quantities;
+    e.quantities = entry.type == "external" ? external_quantities(n) : entry.quantities;
     e.name = n.get_string("name", entry.type);
     if (e.name.empty() || e.name.find_first_of(",\"\n ") != std::string::npos) {
       n.fail("name", "must be non-empty without spaces, commas or quotes");

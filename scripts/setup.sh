@@ -12,6 +12,7 @@ packages=(
   libembree-dev libopenmesh-dev libpcl-dev libosmesa6-dev libpng-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libbenchmark-dev
+  python3-open3d  # the external-estimator example and its test
 )
 
 missing=()

@@ -145,6 +145,19 @@ std::string ConfigNode::get_string(const std::string& key, const std::string& fa
   return v.Scalar();
 }
 
+std::vector<std::string> ConfigNode::get_string_list(const std::string& key, std::size_t min_count) const {
+  const YAML::Node v = value(key);
+  if (!v.IsSequence() || v.size() < min_count) {
+    fail(key, "expected a list of at least " + std::to_string(min_count) + " strings");
+  }
+  std::vector<std::string> out;
+  for (const auto& e : v) {
+    if (!e.IsScalar()) fail(key, "expected a list of strings");
+    out.push_back(e.Scalar());
+  }
+  return out;
+}
+
 std::string ConfigNode::get_choice(const std::string& key, const std::string& fallback,
                                    const std::vector<std::string>& allowed) const {
   const std::string s = get_string(key, fallback);

@@ -42,6 +42,8 @@ class ConfigNode {
   std::uint64_t get_seed(const std::string& key, std::uint64_t fallback) const;
   bool get_bool(const std::string& key, bool fallback) const;
   std::string get_string(const std::string& key, const std::string& fallback) const;
+  // A list of strings (at least min_count).
+  std::vector<std::string> get_string_list(const std::string& key, std::size_t min_count) const;
   std::string get_choice(const std::string& key, const std::string& fallback,
                          const std::vector<std::string>& allowed) const;
   std::vector<double> get_real_list(const std::string& key, std::size_t count, double lo,

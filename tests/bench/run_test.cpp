@@ -1,4 +1,5 @@
 // The harness: sweeps, strict estimator sections, resume, shards, determinism, check.
+#include "bench/bench_compare.h"
 #include "bench/check.h"
 #include "bench/runner.h"
 
@@ -6,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace grapebench {
@@ -194,6 +196,55 @@ TEST(Check, FailsOnAPerturbedBaselineAndPassesOnTheTrueOne) {
   fewer["scores"].erase(0);
   EXPECT_TRUE(check_against_baseline(summary, fewer).pass);
   EXPECT_FALSE(check_against_baseline(fewer, summary).pass);
+}
+
+TEST(CompareBench, FlagsASlowdownByRatioAndUTest) {
+  const auto file = [](double scale, double other) {
+    nlohmann::json j;
+    j["benchmarks"] = nlohmann::json::array();
+    for (int r = 0; r < 5; ++r) {
+      j["benchmarks"].push_back({{"name", "BM_A"}, {"run_name", "BM_A"}, {"run_type", "iteration"},
+                                 {"real_time", scale * (10 + 0.1 * r)}, {"time_unit", "ms"}});
+      j["benchmarks"].push_back({{"name", "BM_B"}, {"run_name", "BM_B"}, {"run_type", "iteration"},
+                                 {"real_time", other * (5 + 0.1 * r)}, {"time_unit", "ms"}});
+    }
+    j["benchmarks"].push_back({{"name", "BM_A_mean"}, {"run_name", "BM_A"}, {"run_type", "aggregate"},
+                               {"real_time", 1e9}, {"time_unit", "ms"}});
+    return j;
+  };
+  const BenchComparison same = compare_benchmarks(file(1, 1), file(1.02, 1), 0.1);
+  EXPECT_FALSE(same.slower) << same.table;
+  const BenchComparison slow = compare_benchmarks(file(1, 1), file(1, 1.5), 0.1);
+  EXPECT_TRUE(slow.slower) << slow.table;
+  EXPECT_NE(slow.table.find("SLOWER"), std::string::npos);
+  EXPECT_EQ(slow.table.find("BM_A                                         10"), std::string::npos);  // aggregates ignored
+}
+
+TEST(External, TheOpen3dExampleRunsThroughTheProtocol) {
+  // Open3D's hull of the same points must agree with CGAL's; a program that fails or
+  // answers without the quantity marks its rows failed, with the reason.
+  const std::string script = std::string(GRAPEBENCH_SOURCE_DIR) + "/scripts/external/open3d_estimator.py";
+  const std::string yaml = std::string(kScene) +
+                           "  - type: external\n    name: o3d_hull\n    command: [/usr/bin/python3, " + script +
+                           ", --method, convex_hull]\n"
+                           "  - type: external\n    name: broken\n    command: [/bin/sh, -c, 'echo no luck >&2; exit 3', sh]\n"
+                           "  - type: external\n    name: silent\n    command: [/bin/true]\n    quantities: [volume, height]\n";
+  const fs::path out = fresh_dir("external");
+  run_scene_set(parse_scene_set(yaml, "ext.yaml"), quiet(out, 2));
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  std::map<std::string, nlohmann::json> by_name;
+  for (const auto& r : summary["scores"]) by_name[r["estimator"].get<std::string>() + "/" + r["quantity"].get<std::string>()] = r;
+  ASSERT_EQ(by_name["o3d_hull/volume"]["succeeded"].get<int>(), 3) << slurp(out / "results.csv");
+  EXPECT_NEAR(by_name["o3d_hull/volume"]["rmse"].get<double>(), by_name["CH/volume"]["rmse"].get<double>(), 1e-3);
+  EXPECT_EQ(by_name["broken/volume"]["succeeded"].get<int>(), 0);
+  EXPECT_EQ(by_name["silent/height"]["succeeded"].get<int>(), 0);
+  const std::string csv = slurp(out / "results.csv");
+  EXPECT_NE(csv.find("failed (exit status 3): no luck"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("wrote no answer.json"), std::string::npos) << csv;
+  // Scene errors of the external entry name the line.
+  const std::string m = error_of(std::string(kScene) + "  - type: external\n    quantities: [mass]\n    command: [x]\n");
+  EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
+  EXPECT_NE(m.find("unknown quantity 'mass'"), std::string::npos) << m;
 }
 
 }  // namespace
