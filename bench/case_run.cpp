@@ -1,6 +1,7 @@
 #include "bench/case_run.h"
 
 #include "algorithms/registration.h"
+#include "bench/heap_meter.h"
 #include "sensors/scan.h"
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
@@ -16,7 +17,7 @@ namespace grapebench {
 namespace {
 
 // Bump when the meaning of a case file changes, so old results are recomputed.
-constexpr const char* kCaseFormat = "grapebench-case-1";
+constexpr const char* kCaseFormat = "grapebench-case-2";
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -184,8 +185,9 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
   for (const auto& spec : scene.estimators) {
     Estimate est;
     std::string error = r.ok ? "" : "no cloud: " + r.error;
-    double secs = 0;
+    double secs = 0, heap_mb = -1;
     if (r.ok) {
+      const HeapMeter meter;
       const auto t0 = std::chrono::steady_clock::now();
       try {
         est = spec.run(merged);
@@ -193,6 +195,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
         error = e.what();
       }
       secs = seconds_since(t0);
+      if (heap_meter_available()) heap_mb = static_cast<double>(meter.peak_bytes()) / 1e6;
     }
     for (const Quantity q : spec.quantities) {
       EstimateRow row;
@@ -201,6 +204,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
       row.quantity = quantity_name(q);
       row.truth = r.ok ? truth_of(q, gt) : 0;
       row.seconds = secs;
+      row.peak_heap_mb = heap_mb;
       row.error = error;
       if (error.empty()) {
         for (const auto& [qq, v] : est.values) {
@@ -240,7 +244,7 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   for (const auto& r : c.rows) {
     rows.push_back({{"estimator", r.estimator}, {"type", r.type}, {"quantity", r.quantity}, {"ok", r.ok},
                     {"estimate", r.estimate}, {"truth", r.truth}, {"watertight", r.watertight}, {"error", r.error},
-                    {"seconds", r.seconds}});
+                    {"seconds", r.seconds}, {"peak_heap_mb", r.peak_heap_mb}});
   }
   j["rows"] = rows;
   return j;
@@ -275,6 +279,7 @@ CaseResult case_from_json(const nlohmann::json& j) {
     e.watertight = r.at("watertight").get<bool>();
     e.error = r.at("error").get<std::string>();
     e.seconds = r.at("seconds").get<double>();
+    e.peak_heap_mb = r.at("peak_heap_mb").get<double>();
     c.rows.push_back(e);
   }
   return c;

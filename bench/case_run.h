@@ -21,6 +21,7 @@ struct EstimateRow {
   bool watertight = false;
   std::string error;
   double seconds = 0;     // wall time of the estimator (not deterministic)
+  double peak_heap_mb = -1;  // most heap (operator new) it held above its start, MB; -1: not measured
 };
 
 struct CaseResult {

@@ -197,14 +197,15 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
   // Scores table.
   h << "<h2>Scores</h2>\n<table><tr><th class=l>condition</th><th class=l>estimator</th><th class=l>quantity</th>"
        "<th>ok</th><th>R2</th><th>RMSE</th><th>MAE</th><th>bias</th><th>MAPE %</th><th>slope</th><th>intercept</th>"
-       "<th>time median ms</th></tr>\n";
+       "<th>time median ms</th><th>peak heap MB</th></tr>\n";
   for (const auto& r : scores) {
     const Score& s = r.score;
     h << "<tr><td class=l>" << esc(set.conditions[static_cast<std::size_t>(r.condition)].label) << "</td><td class=l>"
       << esc(r.estimator) << "</td><td class=l>" << r.quantity << " (" << display_unit(r.quantity) << ")</td><td>"
       << s.succeeded << "/" << s.cases << "</td><td>" << fmt(s.r2) << "</td><td>" << fmt(s.rmse) << "</td><td>"
       << fmt(s.mae) << "</td><td>" << fmt(s.bias) << "</td><td>" << fmt(s.mape) << "</td><td>" << fmt(s.slope)
-      << "</td><td>" << fmt(s.intercept) << "</td><td>" << fmt(s.time_median * 1e3) << "</td></tr>\n";
+      << "</td><td>" << fmt(s.intercept) << "</td><td>" << fmt(s.time_median * 1e3) << "</td><td>" << fmt(r.peak_heap_mb_max)
+      << "</td></tr>\n";
   }
   h << "</table>\n";
 

@@ -101,7 +101,7 @@ std::string results_csv(const SceneSet& set, const std::vector<CaseResult>& case
 
 std::string timings_csv(const SceneSet& set, const std::vector<CaseResult>& cases) {
   std::ostringstream s;
-  s << "scene,condition,bunch,estimator,seconds,scan_seconds,registration_seconds\n";
+  s << "scene,condition,bunch,estimator,seconds,peak_heap_mb,scan_seconds,registration_seconds\n";
   for (const auto& c : cases) {
     const Condition& cond = set.conditions[static_cast<std::size_t>(c.condition)];
     std::string last;
@@ -109,7 +109,8 @@ std::string timings_csv(const SceneSet& set, const std::vector<CaseResult>& case
       if (r.estimator == last) continue;  // one timing per estimator run
       last = r.estimator;
       s << csv_field(set.base.name) << "," << csv_field(cond.label) << "," << c.bunch << "," << csv_field(r.estimator)
-        << "," << num(r.seconds) << "," << num(c.scan_seconds) << "," << num(c.registration_seconds) << "\n";
+        << "," << num(r.seconds) << "," << (r.peak_heap_mb >= 0 ? num(r.peak_heap_mb) : "NaN") << ","
+        << num(c.scan_seconds) << "," << num(c.registration_seconds) << "\n";
     }
   }
   return s.str();
@@ -182,7 +183,8 @@ nlohmann::ordered_json timings_json(const SceneSet& set, const std::vector<Score
                     {"estimator", r.estimator},
                     {"median_s", jnum(r.score.time_median)},
                     {"p25_s", jnum(r.score.time_p25)},
-                    {"p75_s", jnum(r.score.time_p75)}});
+                    {"p75_s", jnum(r.score.time_p75)},
+                    {"peak_heap_mb_max", jnum(r.peak_heap_mb_max)}});
   }
   return rows;
 }
@@ -230,8 +232,8 @@ std::string leaderboard(const SceneSet& set, const std::vector<ScoreRow>& scores
   char line[256];
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
     if (!set.conditions[c].label.empty()) s << "-- " << set.conditions[c].label << "\n";
-    std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8s %10s %10s %9s %8s %10s\n", "estimator", "quantity", "ok",
-                  "R2", "RMSE", "bias", "MAPE %", "slope", "time ms");
+    std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8s %10s %10s %9s %8s %10s %8s\n", "estimator", "quantity",
+                  "ok", "R2", "RMSE", "bias", "MAPE %", "slope", "time ms", "heap MB");
     s << line;
     // Volume first, best MAPE first: the leaderboard.
     std::vector<const ScoreRow*> rows;
@@ -248,9 +250,9 @@ std::string leaderboard(const SceneSet& set, const std::vector<ScoreRow>& scores
       const Score& x = r->score;
       char ok[16];
       std::snprintf(ok, sizeof ok, "%d/%d", x.succeeded, x.cases);
-      std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8.3f %10.2f %10.2f %9.1f %8.3f %10.2f  %s\n",
+      std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8.3f %10.2f %10.2f %9.1f %8.3f %10.2f %8.1f  %s\n",
                     r->estimator.c_str(), r->quantity.c_str(), ok, x.r2, x.rmse, x.bias, x.mape, x.slope,
-                    x.time_median * 1e3, display_unit(r->quantity));
+                    x.time_median * 1e3, r->peak_heap_mb_max, display_unit(r->quantity));
       s << line;
     }
   }
@@ -313,6 +315,7 @@ std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseRes
         const std::string qn = quantity_name(q);
         const double k = display_scale(qn);
         std::vector<double> est, truth, secs;
+        double heap = std::nan("");
         int n = 0;
         for (const auto& cr : cases) {
           if (cr.condition != static_cast<int>(c)) continue;
@@ -320,13 +323,14 @@ std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseRes
             if (r.estimator != spec.name || r.quantity != qn) continue;
             ++n;
             if (cr.ok) secs.push_back(r.seconds);
+            if (r.peak_heap_mb >= 0) heap = std::isnan(heap) ? r.peak_heap_mb : std::max(heap, r.peak_heap_mb);
             if (r.ok) {
               est.push_back(r.estimate * k);
               truth.push_back(r.truth * k);
             }
           }
         }
-        out.push_back({static_cast<int>(c), spec.name, spec.type, qn, score(est, truth, n, secs)});
+        out.push_back({static_cast<int>(c), spec.name, spec.type, qn, score(est, truth, n, secs), heap});
       }
     }
   }

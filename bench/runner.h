@@ -41,6 +41,7 @@ struct ScoreRow {
   int condition = 0;
   std::string estimator, type, quantity;
   Score score;
+  double peak_heap_mb_max = 0;  // largest peak heap of one run, MB (NaN: not measured); not deterministic
 };
 std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseResult>& cases);
 

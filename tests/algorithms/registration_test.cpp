@@ -18,12 +18,13 @@ struct Views {
 
 bool bunch_part(std::uint8_t l) { return l <= static_cast<std::uint8_t>(Part::Peduncle); }
 
-Views scan_views(int n_views, double step_deg) {
+Views scan_views(int n_views, double step_deg, bool bottom = false) {
   const Bunch b = generate_bunch(preset("table-red"), 11);
   const RayScene scene(b);
   TurntableParams tp;
   tp.views = n_views;
   tp.step_deg = step_deg;
+  tp.bottom_view = bottom;
   const Scan scan = scan_bunch(scene, IdealSensor(IdealParams{}), *make_turntable(tp), BackgroundSpec{}, 3);
   Views out;
   const Eigen::Isometry3d t0_inv = scan.views[0].rig.pose.inverse();
@@ -36,6 +37,7 @@ Views scan_views(int n_views, double step_deg) {
     rv.points = to_point_cloud(pts);
     rv.name = v.rig.name;
     rv.nominal = t0_inv * v.rig.pose;
+    rv.bottom = v.rig.name == "bottom";
     out.views.push_back(rv);
     out.truth.push_back(t0_inv * v.rig.pose);
   }
@@ -75,6 +77,17 @@ TEST(Registration, KnownAngleAlignsEveryTurntableView) {
     EXPECT_LT(rotation_error_deg(r.poses[k], v.truth[k]), 0.5) << "view " << k;
     EXPECT_LT(centroid_displacement(r.poses[k], v.truth[k], v.views[k].points), 1e-3) << "view " << k;
   }
+}
+
+TEST(Registration, Seed002BottomViewLandsOnTheLowestBand) {
+  const Views v = scan_views(8, 45, true);
+  ASSERT_TRUE(v.views.back().bottom);
+  IcpParams ip;
+  ip.point_to_plane = true;
+  const RegistrationResult r = register_known_angle(v.views, v.up, ip);
+  const std::size_t k = v.views.size() - 1;
+  EXPECT_LT(rotation_error_deg(r.poses[k], v.truth[k]), 1.0);
+  EXPECT_LT(centroid_displacement(r.poses[k], v.truth[k], v.views[k].points), 2e-3);
 }
 
 TEST(Registration, KnownAngleConvergesWherePlainIcpDoesNot) {

@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <memory>
 #include <string>
 
@@ -78,6 +80,25 @@ TEST(Cli, RunOnTheDefaultSuiteSummarises) {
     EXPECT_NE(r.out.find(name), std::string::npos) << name << "\n" << r.out;
   }
   EXPECT_NE(r.out.find("7/7"), std::string::npos) << r.out;
+}
+
+TEST(Cli, AKilledRunResumesToTheResultsOfAnUninterruptedOne) {
+  const std::string scene = GRAPEBENCH_SOURCE_DIR "/scenes/default.yaml";
+  ASSERT_EQ(run_cli("run " + scene + " --out /tmp/grapebench_cli_whole --no-resume --quiet").status, 0);
+  std::system("rm -rf /tmp/grapebench_cli_killed");
+  // SIGKILL part-way: no chance to clean up; finished cases are on disk.
+  std::system(("timeout -s KILL 1.5 " GRAPEBENCH_EXE " run " + scene + " --out /tmp/grapebench_cli_killed --quiet "
+               ">/dev/null 2>&1").c_str());
+  const CommandResult resumed = run_cli("run " + scene + " --out /tmp/grapebench_cli_killed --quiet");
+  ASSERT_EQ(resumed.status, 0) << resumed.out;
+  const auto slurp = [](const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/results.csv"), slurp("/tmp/grapebench_cli_whole/default/results.csv"));
+  EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/summary.json"), slurp("/tmp/grapebench_cli_whole/default/summary.json"));
 }
 
 TEST(Cli, CheckExitsOneOnARegressionAndZeroOtherwise) {
