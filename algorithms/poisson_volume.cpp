@@ -16,6 +16,32 @@
 
 namespace grapebench {
 
+namespace {
+
+// Points file descriptor 1 at /dev/null for its lifetime (also when an exception
+// passes), flushing stdio on both sides.
+struct StdoutSilenced {
+  int saved = -1;
+  StdoutSilenced() {
+    std::fflush(stdout);
+    saved = dup(1);
+    const int devnull = open("/dev/null", O_WRONLY);
+    if (saved >= 0 && devnull >= 0) dup2(devnull, 1);
+    if (devnull >= 0) close(devnull);
+  }
+  ~StdoutSilenced() {
+    std::fflush(stdout);
+    if (saved >= 0) {
+      dup2(saved, 1);
+      close(saved);
+    }
+  }
+  StdoutSilenced(const StdoutSilenced&) = delete;
+  StdoutSilenced& operator=(const StdoutSilenced&) = delete;
+};
+
+}  // namespace
+
 double mesh_signed_volume(const std::vector<Vec3>& v, const std::vector<std::array<int, 3>>& t) {
   double six = 0;
   for (const auto& f : t) six += v[static_cast<std::size_t>(f[0])].cross(v[static_cast<std::size_t>(f[1])]).dot(v[static_cast<std::size_t>(f[2])]);
@@ -74,38 +100,24 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p) {
     std::lock_guard<std::mutex> lock(one_at_a_time);
     // Its manifold repair prints "Vertex pair not in list" to stdout for every odd
     // cell; the watertight flag reports the outcome instead.
-    std::fflush(stdout);
-    const int saved = dup(1);
-    const int devnull = open("/dev/null", O_WRONLY);
-    if (saved >= 0 && devnull >= 0) dup2(devnull, 1);
-    if (devnull >= 0) close(devnull);
-    try {
-      poisson.reconstruct(mesh);
-    } catch (...) {
-      std::fflush(stdout);
-      if (saved >= 0) dup2(saved, 1), close(saved);
-      throw;
-    }
-    std::fflush(stdout);
-    if (saved >= 0) {
-      dup2(saved, 1);
-      close(saved);
-    }
+    const StdoutSilenced silenced;
+    poisson.reconstruct(mesh);
   }
   pcl::PointCloud<pcl::PointXYZ> verts;
   pcl::fromPCLPointCloud2(mesh.cloud, verts);
   VolumeEstimate e;
   e.points_used = static_cast<std::size_t>(s.points.rows());
-  for (const auto& v : verts) e.mesh_vertices.push_back(Vec3(v.x, v.y, v.z) + centre.transpose());
+  // The reconstruction is about the centroid: the volume is summed there (precision),
+  // the mesh is returned in the cloud's frame.
+  std::vector<Vec3> local;
+  for (const auto& v : verts) local.emplace_back(v.x, v.y, v.z);
   for (const auto& poly : mesh.polygons) {
     if (poly.vertices.size() != 3) continue;
     e.mesh_triangles.push_back({static_cast<int>(poly.vertices[0]), static_cast<int>(poly.vertices[1]),
                                 static_cast<int>(poly.vertices[2])});
   }
   if (e.mesh_triangles.empty()) throw InputError("poisson_volume: the reconstruction is empty");
-  // Translation-invariant for a closed mesh; computed about the centroid for precision.
-  std::vector<Vec3> local;
-  for (const auto& v : e.mesh_vertices) local.push_back(v - centre.transpose());
+  for (const auto& v : local) e.mesh_vertices.push_back(v + centre.transpose());
   e.volume = std::abs(mesh_signed_volume(local, e.mesh_triangles));
   e.watertight = mesh_is_watertight(e.mesh_triangles);
   e.notes = std::to_string(e.mesh_triangles.size()) + " triangles" + (e.watertight ? "" : ", not watertight");

@@ -42,11 +42,6 @@ double truth_of(Quantity q, const GroundTruth& gt) {
   return 0;
 }
 
-bool is_bunch_part(std::uint8_t label) {
-  return label == static_cast<std::uint8_t>(Part::Berry) || label == static_cast<std::uint8_t>(Part::Pedicel) ||
-         label == static_cast<std::uint8_t>(Part::Rachis) || label == static_cast<std::uint8_t>(Part::Peduncle);
-}
-
 Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = Eigen::AngleAxisd(angle_rad, Vec3::UnitZ()).toRotationMatrix();
@@ -112,12 +107,8 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
     // Segmentation (labels): the returns on bunch parts, in each camera's frame.
     std::vector<RegistrationView> views;
     for (const auto& v : scan.views) {
-      std::vector<Vec3> pts;
-      for (std::size_t i = 0; i < v.cloud.size(); ++i) {
-        if (v.cloud.valid[i] && is_bunch_part(v.cloud.label[i])) pts.push_back(v.cloud.xyz[i].cast<double>());
-      }
       RegistrationView rv;
-      rv.points = to_point_cloud(pts);
+      rv.points = to_point_cloud(v.cloud.bunch_points());
       rv.name = v.rig.name;
       rv.bottom = v.rig.name == "bottom";
       views.push_back(std::move(rv));

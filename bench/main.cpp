@@ -76,6 +76,16 @@ std::string sensor_help() {
   return s.str();
 }
 
+nlohmann::json read_json(const std::filesystem::path& f, const std::string& what) {
+  std::ifstream in(f, std::ios::binary);
+  if (!in) throw InputError(f.string() + ": cannot open");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw InputError(f.string() + ": not " + what + ": " + e.what());
+  }
+}
+
 std::string run_help() {
   std::ostringstream s;
   s << "A scene for `run` adds to the sections of `scan` (see `grapebench scan --help`):\n\n"
@@ -270,17 +280,10 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (cmp->parsed()) {
-      const auto read = [](const std::string& f) {
-        std::ifstream in(f, std::ios::binary);
-        try {
-          return nlohmann::json::parse(in);
-        } catch (const std::exception& e) {
-          throw InputError(f + ": not a Google Benchmark JSON file: " + e.what());
-        }
-      };
       BenchComparison c;
       try {
-        c = compare_benchmarks(read(cmp_old), read(cmp_new), cmp_threshold);
+        c = compare_benchmarks(read_json(cmp_old, "a Google Benchmark JSON file"),
+                               read_json(cmp_new, "a Google Benchmark JSON file"), cmp_threshold);
       } catch (const nlohmann::json::exception& e) {
         throw InputError("compare-bench: a file lacks Google Benchmark fields: " + std::string(e.what()));
       }
@@ -290,16 +293,8 @@ int main(int argc, char** argv) {
     if (check->parsed()) {
       std::filesystem::path p = check_run;
       if (std::filesystem::is_directory(p)) p /= "summary.json";
-      const auto read = [](const std::filesystem::path& f) {
-        std::ifstream in(f, std::ios::binary);
-        if (!in) throw InputError(f.string() + ": cannot open");
-        try {
-          return nlohmann::json::parse(in);
-        } catch (const std::exception& e) {
-          throw InputError(f.string() + ": not a summary JSON file: " + e.what());
-        }
-      };
-      const auto res = check_against_baseline(read(p), read(check_baseline));
+      const auto res = check_against_baseline(read_json(p, "a summary JSON file"),
+                                              read_json(check_baseline, "a summary JSON file"));
       std::cout << res.diff;
       std::printf("%s: %d rows compared with %s\n", res.pass ? "PASS" : "REGRESSION", res.rows_compared,
                   check_baseline.c_str());

@@ -213,23 +213,13 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
   h << "<h2>Registration</h2>\n<table><tr><th class=l>condition</th><th class=l>method</th><th>cases</th>"
        "<th>rotation error, mean of per-case max (deg)</th><th>worst (deg)</th><th>translation error, mean of max (mm)</th>"
        "<th>failed cases</th></tr>\n";
+  const auto regs = registration_rows(set, cases);
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
-    double rot = 0, worst = 0, tr = 0;
-    int n = 0, failed = 0;
-    for (const auto& cr : cases) {
-      if (cr.condition != static_cast<int>(c)) continue;
-      if (!cr.ok) {
-        ++failed;
-        continue;
-      }
-      rot += cr.rotation_error_max_deg;
-      worst = std::max(worst, cr.rotation_error_max_deg);
-      tr += cr.translation_error_max_mm;
-      ++n;
-    }
+    const RegistrationRow& r = regs[c];
     h << "<tr><td class=l>" << esc(set.conditions[c].label) << "</td><td class=l>"
-      << set.conditions[c].scene.pipeline.registration << "</td><td>" << n << "</td><td>" << fmt(n ? rot / n : 0)
-      << "</td><td>" << fmt(worst) << "</td><td>" << fmt(n ? tr / n : 0) << "</td><td>" << failed << "</td></tr>\n";
+      << set.conditions[c].scene.pipeline.registration << "</td><td>" << r.cases << "</td><td>"
+      << fmt(r.rotation_max_deg_mean) << "</td><td>" << fmt(r.rotation_max_deg_worst) << "</td><td>"
+      << fmt(r.translation_max_mm_mean) << "</td><td>" << r.failed << "</td></tr>\n";
   }
   h << "</table>\n";
 
@@ -325,14 +315,10 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
           if (row.estimator == r.estimator && row.quantity == r.quantity) t.push_back(row.seconds);
         }
       }
-      std::sort(t.begin(), t.end());
-      const auto qtl = [&](double p) {
-        return t.empty() ? std::numeric_limits<double>::quiet_NaN() : t[static_cast<std::size_t>(p * static_cast<double>(t.size() - 1) + 0.5)];
-      };
       names.push_back(r.estimator);
-      med.push_back(qtl(0.5));
-      lo.push_back(qtl(0.25));
-      hi.push_back(qtl(0.75));
+      med.push_back(quantile(t, 0.5));
+      lo.push_back(quantile(t, 0.25));
+      hi.push_back(quantile(t, 0.75));
     }
     const std::string svg = time_plot(names, med, lo, hi);
     rep.svgs["time.svg"] = svg;

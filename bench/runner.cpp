@@ -150,23 +150,14 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
                     {"intercept", jnum(s.intercept)}});
   }
   j["scores"] = rows;
-  // Registration per condition (mean over cases of the per-case maxima).
   nlohmann::ordered_json reg = nlohmann::ordered_json::array();
+  const auto regs = registration_rows(set, cases);
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
-    double rot = 0, tr = 0, worst_rot = 0;
-    int n = 0;
-    for (const auto& cr : cases) {
-      if (cr.condition != static_cast<int>(c) || !cr.ok) continue;
-      rot += cr.rotation_error_max_deg;
-      tr += cr.translation_error_max_mm;
-      worst_rot = std::max(worst_rot, cr.rotation_error_max_deg);
-      ++n;
-    }
     reg.push_back({{"condition", set.conditions[c].label},
                    {"registration", set.conditions[c].scene.pipeline.registration},
-                   {"rotation_error_max_deg_mean", n ? rot / n : 0.0},
-                   {"rotation_error_max_deg_worst", worst_rot},
-                   {"translation_error_max_mm_mean", n ? tr / n : 0.0}});
+                   {"rotation_error_max_deg_mean", regs[c].rotation_max_deg_mean},
+                   {"rotation_error_max_deg_worst", regs[c].rotation_max_deg_worst},
+                   {"translation_error_max_mm_mean", regs[c].translation_max_mm_mean}});
   }
   j["registration"] = reg;
   return j;
@@ -335,6 +326,28 @@ std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseRes
     }
   }
   return out;
+}
+
+std::vector<RegistrationRow> registration_rows(const SceneSet& set, const std::vector<CaseResult>& cases) {
+  std::vector<RegistrationRow> rows(set.conditions.size());
+  for (const auto& cr : cases) {
+    RegistrationRow& r = rows[static_cast<std::size_t>(cr.condition)];
+    if (!cr.ok) {
+      ++r.failed;
+      continue;
+    }
+    ++r.cases;
+    r.rotation_max_deg_mean += cr.rotation_error_max_deg;
+    r.translation_max_mm_mean += cr.translation_error_max_mm;
+    r.rotation_max_deg_worst = std::max(r.rotation_max_deg_worst, cr.rotation_error_max_deg);
+  }
+  for (auto& r : rows) {
+    if (r.cases > 0) {
+      r.rotation_max_deg_mean /= r.cases;
+      r.translation_max_mm_mean /= r.cases;
+    }
+  }
+  return rows;
 }
 
 RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {

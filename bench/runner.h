@@ -45,4 +45,13 @@ struct ScoreRow {
 };
 std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseResult>& cases);
 
+// Registration per condition over its successful cases (summary.json, report).
+struct RegistrationRow {
+  int cases = 0, failed = 0;
+  double rotation_max_deg_mean = 0;   // mean over cases of the per-case worst view
+  double rotation_max_deg_worst = 0;
+  double translation_max_mm_mean = 0;
+};
+std::vector<RegistrationRow> registration_rows(const SceneSet& set, const std::vector<CaseResult>& cases);
+
 }  // namespace grapebench

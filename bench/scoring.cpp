@@ -6,8 +6,6 @@
 
 namespace grapebench {
 
-namespace {
-
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   std::sort(v.begin(), v.end());
@@ -16,8 +14,6 @@ double quantile(std::vector<double> v, double q) {
   const auto hi = std::min(lo + 1, v.size() - 1);
   return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
 }
-
-}  // namespace
 
 Score score(const std::vector<double>& est, const std::vector<double>& truth, int cases,
             const std::vector<double>& seconds) {

@@ -24,6 +24,9 @@ struct Score {
 Score score(const std::vector<double>& estimate, const std::vector<double>& truth, int cases,
             const std::vector<double>& seconds);
 
+// Linearly interpolated quantile q in [0, 1] of v; NaN when v is empty.
+double quantile(std::vector<double> v, double q);
+
 // Display unit and scale from SI for a quantity name.
 const char* display_unit(const std::string& quantity);
 double display_scale(const std::string& quantity);

@@ -58,6 +58,9 @@ struct OrganisedCloud {
   void resize(int w, int h);
   std::size_t size() const { return static_cast<std::size_t>(width) * height; }
   std::size_t valid_count() const;
+  // Positions (sensor frame, m) of the valid returns on bunch parts (berry, pedicel,
+  // rachis, peduncle): the ground-truth segmentation of the bunch.
+  std::vector<Vec3> bunch_points() const;
 };
 
 }  // namespace grapebench

@@ -83,4 +83,12 @@ std::size_t OrganisedCloud::valid_count() const {
   return n;
 }
 
+std::vector<Vec3> OrganisedCloud::bunch_points() const {
+  std::vector<Vec3> pts;
+  for (std::size_t i = 0; i < size(); ++i) {
+    if (valid[i] && label[i] <= static_cast<std::uint8_t>(Part::Peduncle)) pts.push_back(xyz[i].cast<double>());
+  }
+  return pts;
+}
+
 }  // namespace grapebench

@@ -16,8 +16,6 @@ struct Views {
   Eigen::Vector3d up;
 };
 
-bool bunch_part(std::uint8_t l) { return l <= static_cast<std::uint8_t>(Part::Peduncle); }
-
 Views scan_views(int n_views, double step_deg, bool bottom = false) {
   const Bunch b = generate_bunch(preset("table-red"), 11);
   const RayScene scene(b);
@@ -29,12 +27,8 @@ Views scan_views(int n_views, double step_deg, bool bottom = false) {
   Views out;
   const Eigen::Isometry3d t0_inv = scan.views[0].rig.pose.inverse();
   for (const auto& v : scan.views) {
-    std::vector<Vec3> pts;
-    for (std::size_t i = 0; i < v.cloud.size(); ++i) {
-      if (v.cloud.valid[i] && bunch_part(v.cloud.label[i])) pts.push_back(v.cloud.xyz[i].cast<double>());
-    }
     RegistrationView rv;
-    rv.points = to_point_cloud(pts);
+    rv.points = to_point_cloud(v.cloud.bunch_points());
     rv.name = v.rig.name;
     rv.nominal = t0_inv * v.rig.pose;
     rv.bottom = v.rig.name == "bottom";
