@@ -6,6 +6,7 @@
 #include <pcl/surface/mls.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace grapebench {
 
@@ -31,6 +32,8 @@ SmoothedCloud mls_smooth(const PointCloud& cloud, const MlsParams& p) {
   pcl::PointCloud<pcl::PointNormal> out;
   mls.process(out);
   SmoothedCloud s;
+  const auto corresponding = mls.getCorrespondingIndices();
+  if (!corresponding || corresponding->indices.size() != out.size()) throw std::logic_error("mls_smooth: PCL gave no input index per output point");
   std::vector<Eigen::Index> keep;
   for (std::size_t i = 0; i < out.size(); ++i) {
     const auto& q = out[i];
@@ -46,6 +49,7 @@ SmoothedCloud mls_smooth(const PointCloud& cloud, const MlsParams& p) {
     if (n.dot(pos) < 0) n = -n;
     s.points.row(static_cast<Eigen::Index>(k)) = pos + centre;
     s.normals.row(static_cast<Eigen::Index>(k)) = n.normalized();
+    s.source.push_back(corresponding->indices[static_cast<std::size_t>(keep[k])]);
   }
   return s;
 }

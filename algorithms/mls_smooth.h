@@ -3,6 +3,8 @@
 
 #include "algorithms/point_cloud.h"
 
+#include <vector>
+
 namespace grapebench {
 
 struct MlsParams {
@@ -15,6 +17,7 @@ struct MlsParams {
 struct SmoothedCloud {
   PointCloud points;   // N x 3, m (projected onto the local polynomial)
   PointCloud normals;  // N x 3, unit, oriented away from the cloud's centroid
+  std::vector<Eigen::Index> source;  // N: the input row each point was projected from
 };
 
 // Points with fewer than 3 neighbours inside the radius are dropped. Throws

@@ -6,6 +6,8 @@
 #include "algorithms/external_estimator.h"
 #include "algorithms/pca_box.h"
 #include "algorithms/poisson_volume.h"
+#include "algorithms/mls_smooth.h"
+#include "algorithms/section_perimeters.h"
 #include "algorithms/voxel_volume.h"
 
 #include <algorithm>
@@ -19,6 +21,9 @@ const char* quantity_name(Quantity q) {
     case Quantity::Height: return "height";
     case Quantity::Length: return "length";
     case Quantity::Width: return "width";
+    case Quantity::PerimeterH: return "perimeter_h";
+    case Quantity::PerimeterL: return "perimeter_l";
+    case Quantity::PerimeterW: return "perimeter_w";
   }
   return "?";
 }
@@ -41,6 +46,26 @@ const std::vector<EstimatorEntry> kEntries = {
        return [](const PointCloud& c) {
          const PcaBox b = pca_box(c);
          return Estimate{{{Quantity::Height, b.height}, {Quantity::Length, b.length}, {Quantity::Width, b.width}}, false, {}};
+       };
+     }},
+    {"section_perimeters", "perimeters of the three centre sections, Hobby spline, arc length (seed 002 Eqs. 10-12)",
+     {Quantity::PerimeterH, Quantity::PerimeterL, Quantity::PerimeterW},
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundEstimator {
+       SectionPerimeterParams s;
+       s.half_width = n.get_real("half_width", s.half_width, 1e-4, 0.05);
+       s.outline = n.get_choice("outline", s.outline, {"convex_hull", "angular"});
+       s.angular_bins = static_cast<int>(n.get_int("angular_bins", s.angular_bins, 8, 3600));
+       s.tension = n.get_real("tension", s.tension, 0.75, 4);
+       p["half_width"] = s.half_width;
+       p["outline"] = s.outline;
+       p["angular_bins"] = s.angular_bins;
+       p["tension"] = s.tension;
+       return [s](const PointCloud& c) {
+         const SectionPerimeters r = section_perimeters(c, s);
+         Estimate e;
+         e.values = {{Quantity::PerimeterH, r.perimeter(0)}, {Quantity::PerimeterL, r.perimeter(1)}, {Quantity::PerimeterW, r.perimeter(2)}};
+         e.notes = "knots " + std::to_string(r.knots[0]) + "/" + std::to_string(r.knots[1]) + "/" + std::to_string(r.knots[2]);
+         return e;
        };
      }},
     {"cylinder_model", "GM: cylinder of diameter max(l, w) and height h (seed 000 Eq. 6)",
@@ -119,18 +144,142 @@ std::vector<Quantity> external_quantities(const ConfigNode& n) {
   if (!n.has("quantities")) return {Quantity::Volume};
   for (const auto& name : n.get_string_list("quantities", 1)) {
     bool found = false;
-    for (Quantity q : {Quantity::Volume, Quantity::Height, Quantity::Length, Quantity::Width}) {
+    for (Quantity q : kAllQuantities) {
       if (name == quantity_name(q)) {
         if (std::find(out.begin(), out.end(), q) == out.end()) out.push_back(q);
         found = true;
       }
     }
-    if (!found) n.fail("quantities", "unknown quantity '" + name + "'; allowed: volume, height, length, width");
+    if (!found) n.fail("quantities", "unknown quantity '" + name + "'; allowed: volume, height, length, width, perimeter_h, perimeter_l, perimeter_w");
   }
   return out;
 }
 
 const std::vector<EstimatorEntry>& estimator_registry() { return kEntries; }
+
+namespace {
+
+Vec3 read_vec3(const ConfigNode& n, const std::string& key, const Vec3& fallback) {
+  if (!n.has(key)) return fallback;
+  const auto v = n.get_real_list(key, 3, -1e9, 1e9);
+  return {v[0], v[1], v[2]};
+}
+
+// One line per pipeline step: type, summary, parameter reader.
+const std::vector<FilterEntry> kFilters = {
+    {"pass_through", "keep the points in an axis-aligned box, m (seed 000 clipping, seed 003 Sect. 2.3)",
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundFilter {
+       PassThroughParams f;
+       f.min = read_vec3(n, "min", f.min);
+       f.max = read_vec3(n, "max", f.max);
+       for (int k = 0; k < 3; ++k) {
+         if (!(f.min(k) < f.max(k))) n.fail("max", "must exceed `min` on every axis (x, y, z)");
+       }
+       p["min"] = {f.min.x(), f.min.y(), f.min.z()};
+       p["max"] = {f.max.x(), f.max.y(), f.max.z()};
+       return [f](const PointCloud& c) { return pass_through(c, f); };
+     }},
+    {"statistical_outlier", "statistical outlier removal, n neighbours and delta sd (seed 002 Sect. 2.1; PCL)",
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundFilter {
+       OutlierRemovalParams f;
+       f.mean_k = static_cast<int>(n.get_int("mean_k", f.mean_k, 1, 1000));
+       f.stddev_mul = n.get_real("stddev_mul", f.stddev_mul, 0, 100);
+       p["mean_k"] = f.mean_k;
+       p["stddev_mul"] = f.stddev_mul;
+       return [f](const PointCloud& c) { return statistical_outlier_removal(c, f); };
+     }},
+    {"voxel_grid", "voxel-grid downsampling to voxel centroids, leaf in m (seed 000; PCL)",
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundFilter {
+       VoxelGridParams f;
+       f.leaf = n.get_real("leaf", f.leaf, 1e-4, 1);
+       p["leaf"] = f.leaf;
+       return [f](const PointCloud& c) { return voxel_grid(c, f); };
+     }},
+    {"region_growing", "region growing on normals/curvature; flat large regions are background (seed 000; PCL)",
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundFilter {
+       RegionGrowingParams f;
+       f.normal_k = static_cast<int>(n.get_int("normal_k", f.normal_k, 3, 500));
+       f.neighbours = static_cast<int>(n.get_int("neighbours", f.neighbours, 3, 500));
+       f.smoothness_deg = n.get_real("smoothness_deg", f.smoothness_deg, 0.1, 90);
+       f.curvature = n.get_real("curvature", f.curvature, 0, 1);
+       f.min_region = static_cast<int>(n.get_int("min_region", f.min_region, 1, 1000000));
+       f.plane_rms = n.get_real("plane_rms", f.plane_rms, 1e-5, 0.1);
+       f.min_background_extent = n.get_real("min_background_extent", f.min_background_extent, 1e-3, 10);
+       f.cluster_tolerance = n.get_real("cluster_tolerance", f.cluster_tolerance, 0, 1);
+       p["normal_k"] = f.normal_k;
+       p["neighbours"] = f.neighbours;
+       p["smoothness_deg"] = f.smoothness_deg;
+       p["curvature"] = f.curvature;
+       p["min_region"] = f.min_region;
+       p["plane_rms"] = f.plane_rms;
+       p["min_background_extent"] = f.min_background_extent;
+       p["cluster_tolerance"] = f.cluster_tolerance;
+       return [f](const PointCloud& c) { return region_growing_segmentation(c, f); };
+     }},
+    {"lccp_stalk_removal", "remove the stalk: supervoxels + LCCP, thin elongated end segments (seed 002 Eqs. 5-6; PCL)",
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundFilter {
+       LccpStalkParams f;
+       f.voxel_resolution = n.get_real("voxel_resolution", f.voxel_resolution, 1e-4, 0.1);
+       f.seed_resolution = n.get_real("seed_resolution", f.seed_resolution, 1e-3, 0.5);
+       if (!(f.seed_resolution > f.voxel_resolution)) n.fail("seed_resolution", "must exceed voxel_resolution");
+       f.spatial_importance = n.get_real("spatial_importance", f.spatial_importance, 0, 100);
+       f.normal_importance = n.get_real("normal_importance", f.normal_importance, 0, 100);
+       f.concavity_tolerance_deg = n.get_real("concavity_tolerance_deg", f.concavity_tolerance_deg, 0, 90);
+       f.sanity_check = n.get_bool("sanity_check", f.sanity_check);
+       f.min_segment_size = static_cast<int>(n.get_int("min_segment_size", f.min_segment_size, 0, 1000));
+       f.max_stalk_diameter = n.get_real("max_stalk_diameter", f.max_stalk_diameter, 1e-3, 0.1);
+       f.elongation = n.get_real("elongation", f.elongation, 1, 100);
+       f.end_band = n.get_real("end_band", f.end_band, 0, 0.2);
+       f.max_stalk_segments = static_cast<int>(n.get_int("max_stalk_segments", f.max_stalk_segments, 1, 20));
+       p["voxel_resolution"] = f.voxel_resolution;
+       p["seed_resolution"] = f.seed_resolution;
+       p["spatial_importance"] = f.spatial_importance;
+       p["normal_importance"] = f.normal_importance;
+       p["concavity_tolerance_deg"] = f.concavity_tolerance_deg;
+       p["sanity_check"] = f.sanity_check;
+       p["min_segment_size"] = f.min_segment_size;
+       p["max_stalk_diameter"] = f.max_stalk_diameter;
+       p["elongation"] = f.elongation;
+       p["end_band"] = f.end_band;
+       p["max_stalk_segments"] = f.max_stalk_segments;
+       return [f](const PointCloud& c) { return lccp_stalk_removal(c, f); };
+     }},
+    {"mls", "moving least squares smoothing and resampling, radius in m (seed 000 Eqs. 3-4; PCL)",
+     [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundFilter {
+       MlsParams f;
+       f.radius = n.get_real("radius", f.radius, 1e-4, 0.5);
+       f.polynomial_order = static_cast<int>(n.get_int("polynomial_order", f.polynomial_order, 0, 4));
+       p["radius"] = f.radius;
+       p["polynomial_order"] = f.polynomial_order;
+       return [f](const PointCloud& c) {
+         SmoothedCloud s = mls_smooth(c, f);
+         FilteredCloud out;
+         out.points = std::move(s.points);
+         out.source = std::move(s.source);
+         out.notes = "smoothed " + std::to_string(out.points.rows()) + " of " + std::to_string(c.rows()) + " points";
+         return out;
+       };
+     }},
+};
+
+}  // namespace
+
+const std::vector<FilterEntry>& filter_registry() { return kFilters; }
+
+std::vector<std::string> filter_types() {
+  std::vector<std::string> t;
+  for (const auto& e : kFilters) t.push_back(e.type);
+  return t;
+}
+
+const FilterEntry& find_filter(const ConfigNode& node) {
+  if (!node.has("type")) node.fail("type", "missing: one of the registered pipeline steps (grapebench run --help)");
+  const std::string type = node.get_choice("type", "", filter_types());
+  for (const auto& e : kFilters) {
+    if (e.type == type) return e;
+  }
+  node.fail("type", "missing");
+}
 
 std::vector<std::string> estimator_types() {
   std::vector<std::string> t;

@@ -2,6 +2,7 @@
 // pbrt's Create). Adding an estimator is its file pair plus one line in registry.cpp.
 #pragma once
 
+#include "algorithms/filters.h"
 #include "algorithms/point_cloud.h"
 #include "synth/config.h"
 
@@ -15,8 +16,12 @@ namespace grapebench {
 
 // Quantities an estimator can report, each scored against its ground truth.
 // SI units inside the program (m3, m); the harness writes cm3 and mm.
-enum class Quantity { Volume, Height, Length, Width };
-const char* quantity_name(Quantity q);  // "volume", "height", ...
+// Perimeters are of the sections through the bunch centre normal to the height,
+// length and width axis (seed 002 Eqs. 10-12).
+enum class Quantity { Volume, Height, Length, Width, PerimeterH, PerimeterL, PerimeterW };
+inline constexpr Quantity kAllQuantities[] = {Quantity::Volume, Quantity::Height, Quantity::Length, Quantity::Width,
+                                              Quantity::PerimeterH, Quantity::PerimeterL, Quantity::PerimeterW};
+const char* quantity_name(Quantity q);  // "volume", "height", ..., "perimeter_h"
 
 // What one run of an estimator gives the harness.
 struct Estimate {
@@ -44,5 +49,19 @@ std::vector<Quantity> external_quantities(const ConfigNode& node);
 std::vector<std::string> estimator_types();
 // Looks up node["type"]; unknown types name file:line and the registered ones.
 const EstimatorEntry& find_estimator(const ConfigNode& node);
+
+// Pipeline steps on a point cloud (scene `pipeline.view_filters` / `cloud_filters`),
+// registered like estimators: one line in registry.cpp per step.
+using BoundFilter = std::function<FilteredCloud(const PointCloud& cloud)>;
+
+struct FilterEntry {
+  std::string type;
+  std::string summary;
+  std::function<BoundFilter(const ConfigNode& node, nlohmann::ordered_json& params)> create;
+};
+
+const std::vector<FilterEntry>& filter_registry();
+std::vector<std::string> filter_types();
+const FilterEntry& find_filter(const ConfigNode& node);
 
 }  // namespace grapebench

@@ -8,6 +8,7 @@
 #include "synth/io.h"
 #include "synth/rng.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,7 +18,7 @@ namespace grapebench {
 namespace {
 
 // Bump when the meaning of a case file changes, so old results are recomputed.
-constexpr const char* kCaseFormat = "grapebench-case-2";
+constexpr const char* kCaseFormat = "grapebench-case-3";
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -38,6 +39,9 @@ double truth_of(Quantity q, const GroundTruth& gt) {
     case Quantity::Height: return gt.pca_extent(0);
     case Quantity::Length: return gt.pca_extent(1);
     case Quantity::Width: return gt.pca_extent(2);
+    case Quantity::PerimeterH: return gt.section_perimeter(0);
+    case Quantity::PerimeterL: return gt.section_perimeter(1);
+    case Quantity::PerimeterW: return gt.section_perimeter(2);
   }
   return 0;
 }
@@ -104,25 +108,51 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
     r.scan_seconds = seconds_since(t0);
     r.views = static_cast<int>(scan.views.size());
 
-    // Segmentation (labels): the returns on bunch parts, in each camera's frame.
+    // Segmentation: the returns on bunch parts (labels) or every return (none), in
+    // each camera's frame, with their ground-truth labels carried along so every
+    // pipeline step can be scored.
+    const auto& pl = scene.pipeline;
+    const auto is_bunch = [](std::uint8_t l) { return l <= static_cast<std::uint8_t>(Part::Peduncle); };
     std::vector<RegistrationView> views;
+    std::vector<std::vector<std::uint8_t>> view_labels;
+    std::size_t bunch_returns = 0, kept = 0, kept_bunch = 0;
+    t0 = std::chrono::steady_clock::now();
     for (const auto& v : scan.views) {
+      std::vector<Vec3> pts;
+      std::vector<std::uint8_t> labels;
+      for (std::size_t i = 0; i < v.cloud.size(); ++i) {
+        if (!v.cloud.valid[i]) continue;
+        bunch_returns += is_bunch(v.cloud.label[i]);
+        if (pl.segmentation == "labels" && !is_bunch(v.cloud.label[i])) continue;
+        pts.push_back(v.cloud.xyz[i].cast<double>());
+        labels.push_back(v.cloud.label[i]);
+      }
       RegistrationView rv;
-      rv.points = to_point_cloud(v.cloud.bunch_points());
+      rv.points = to_point_cloud(pts);
+      for (const auto& f : pl.view_filters) {
+        if (rv.points.rows() == 0) break;
+        FilteredCloud out = f.run(rv.points);
+        std::vector<std::uint8_t> next(out.source.size());
+        for (std::size_t i = 0; i < next.size(); ++i) next[i] = labels[static_cast<std::size_t>(out.source[i])];
+        rv.points = std::move(out.points);
+        labels = std::move(next);
+      }
+      for (auto l : labels) kept_bunch += is_bunch(l);
+      kept += labels.size();
       rv.name = v.rig.name;
       rv.bottom = v.rig.name == "bottom";
       views.push_back(std::move(rv));
+      view_labels.push_back(std::move(labels));
     }
+    r.segmentation_precision = kept ? static_cast<double>(kept_bunch) / static_cast<double>(kept) : 0;
+    r.segmentation_recall = bunch_returns ? static_cast<double>(kept_bunch) / static_cast<double>(bunch_returns) : 0;
+    r.segmentation_seconds = seconds_since(t0);
+
     const Eigen::Isometry3d t0_inv = scan.views.front().rig.pose.inverse();
-    const auto& pl = scene.pipeline;
     t0 = std::chrono::steady_clock::now();
+    std::vector<Eigen::Isometry3d> poses(views.size());
     if (pl.registration == "true_poses") {
-      std::vector<Vec3> pts;
-      for (std::size_t k = 0; k < views.size(); ++k) {
-        const auto& pose = scan.views[k].rig.pose;
-        for (Eigen::Index i = 0; i < views[k].points.rows(); ++i) pts.push_back(pose * views[k].points.row(i).transpose());
-      }
-      merged = to_point_cloud(pts);
+      for (std::size_t k = 0; k < views.size(); ++k) poses[k] = scan.views[k].rig.pose;
     } else {
       for (const auto& v : views) {
         if (v.points.rows() < 10) {
@@ -147,7 +177,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
         const Vec3 up = t0_inv.linear() * Vec3::UnitZ();
         reg = register_known_angle(views, up, pl.icp, pl.bottom_band);
       }
-      merged = std::move(reg.merged);
+      poses = reg.poses;
       double rsum = 0, tsum = 0;
       for (std::size_t k = 1; k < views.size(); ++k) {
         const Eigen::Isometry3d truth = t0_inv * scan.views[k].rig.pose;
@@ -162,7 +192,36 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
         r.translation_error_mean_mm = tsum / static_cast<double>(views.size() - 1);
       }
     }
+    // The registered cloud: every view under its pose, in view order, with its labels.
+    std::vector<Vec3> pts;
+    std::vector<std::uint8_t> labels;
+    for (std::size_t k = 0; k < views.size(); ++k) {
+      for (Eigen::Index i = 0; i < views[k].points.rows(); ++i) pts.push_back(poses[k] * views[k].points.row(i).transpose());
+      labels.insert(labels.end(), view_labels[k].begin(), view_labels[k].end());
+    }
+    merged = to_point_cloud(pts);
     r.registration_seconds = seconds_since(t0);
+
+    // Cloud filters (MLS, stalk removal, downsampling...) on the registered cloud.
+    t0 = std::chrono::steady_clock::now();
+    const auto count = [&](Part part) {
+      return static_cast<double>(std::count(labels.begin(), labels.end(), static_cast<std::uint8_t>(part)));
+    };
+    const double peduncle_before = count(Part::Peduncle), body_before = static_cast<double>(kept_bunch) - peduncle_before;
+    for (const auto& f : pl.cloud_filters) {
+      if (merged.rows() == 0) break;
+      FilteredCloud out = f.run(merged);
+      std::vector<std::uint8_t> next(out.source.size());
+      for (std::size_t i = 0; i < next.size(); ++i) next[i] = labels[static_cast<std::size_t>(out.source[i])];
+      merged = std::move(out.points);
+      labels = std::move(next);
+    }
+    if (!pl.cloud_filters.empty()) {
+      r.peduncle_kept = peduncle_before > 0 ? count(Part::Peduncle) / peduncle_before : 0;
+      const double body_after = static_cast<double>(std::count_if(labels.begin(), labels.end(), is_bunch)) - count(Part::Peduncle);
+      r.body_kept = body_before > 0 ? body_after / body_before : 0;
+    }
+    r.filter_seconds = seconds_since(t0);
     r.points = static_cast<std::size_t>(merged.rows());
     if (static_cast<double>(merged.rows()) < pl.min_points) {
       throw InputError("only " + std::to_string(merged.rows()) + " bunch points (pipeline.min_points " +
@@ -231,6 +290,12 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   j["translation_error_max_mm"] = c.translation_error_max_mm;
   j["scan_seconds"] = c.scan_seconds;
   j["registration_seconds"] = c.registration_seconds;
+  j["segmentation_precision"] = c.segmentation_precision;
+  j["segmentation_recall"] = c.segmentation_recall;
+  j["peduncle_kept"] = c.peduncle_kept;
+  j["body_kept"] = c.body_kept;
+  j["segmentation_seconds"] = c.segmentation_seconds;
+  j["filter_seconds"] = c.filter_seconds;
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const auto& r : c.rows) {
     rows.push_back({{"estimator", r.estimator}, {"type", r.type}, {"quantity", r.quantity}, {"ok", r.ok},
@@ -259,6 +324,12 @@ CaseResult case_from_json(const nlohmann::json& j) {
   c.translation_error_max_mm = j.at("translation_error_max_mm").get<double>();
   c.scan_seconds = j.at("scan_seconds").get<double>();
   c.registration_seconds = j.at("registration_seconds").get<double>();
+  c.segmentation_precision = j.at("segmentation_precision").get<double>();
+  c.segmentation_recall = j.at("segmentation_recall").get<double>();
+  c.peduncle_kept = j.at("peduncle_kept").get<double>();
+  c.body_kept = j.at("body_kept").get<double>();
+  c.segmentation_seconds = j.at("segmentation_seconds").get<double>();
+  c.filter_seconds = j.at("filter_seconds").get<double>();
   for (const auto& r : j.at("rows")) {
     EstimateRow e;
     e.estimator = r.at("estimator").get<std::string>();

@@ -37,8 +37,16 @@ struct CaseResult {
   // Registration against the true relative poses (0 with true_poses).
   double rotation_error_mean_deg = 0, rotation_error_max_deg = 0;
   double translation_error_mean_mm = 0, translation_error_max_mm = 0;
+  // Segmentation and view filters against the scan's labels, over all views:
+  // precision = bunch points kept / points kept; recall = bunch points kept / bunch
+  // returns. 1 and 1 for label segmentation without filters.
+  double segmentation_precision = 0, segmentation_recall = 0;
+  // Cloud filters: fraction of the peduncle points and of the other bunch points of
+  // the registered cloud they keep (0 and 0 without cloud filters).
+  double peduncle_kept = 0, body_kept = 0;
   std::vector<EstimateRow> rows;
-  double scan_seconds = 0, registration_seconds = 0;  // not deterministic
+  // Not deterministic:
+  double scan_seconds = 0, segmentation_seconds = 0, registration_seconds = 0, filter_seconds = 0;
 };
 
 // Everything a case depends on, hashed: the condition's full parameters, the bunch

@@ -210,16 +210,25 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
   h << "</table>\n";
 
   // Registration table.
-  h << "<h2>Registration</h2>\n<table><tr><th class=l>condition</th><th class=l>method</th><th>cases</th>"
+  h << "<h2>Pipeline: segmentation, registration, cloud filters</h2>\n<table><tr><th class=l>condition</th>"
+       "<th class=l>segmentation</th><th>precision</th><th>recall</th><th class=l>registration</th><th>cases</th>"
        "<th>rotation error, mean of per-case max (deg)</th><th>worst (deg)</th><th>translation error, mean of max (mm)</th>"
-       "<th>failed cases</th></tr>\n";
+       "<th>peduncle points kept</th><th>other bunch points kept</th><th>failed cases</th></tr>\n";
   const auto regs = registration_rows(set, cases);
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
     const RegistrationRow& r = regs[c];
-    h << "<tr><td class=l>" << esc(set.conditions[c].label) << "</td><td class=l>"
-      << set.conditions[c].scene.pipeline.registration << "</td><td>" << r.cases << "</td><td>"
-      << fmt(r.rotation_max_deg_mean) << "</td><td>" << fmt(r.rotation_max_deg_worst) << "</td><td>"
-      << fmt(r.translation_max_mm_mean) << "</td><td>" << r.failed << "</td></tr>\n";
+    const auto& pl = set.conditions[c].scene.pipeline;
+    h << "<tr><td class=l>" << esc(set.conditions[c].label) << "</td><td class=l>" << pl.segmentation;
+    for (const auto& f : pl.view_filters) h << " + " << f.type;
+    h << "</td><td>" << fmt(r.segmentation_precision) << "</td><td>" << fmt(r.segmentation_recall) << "</td><td class=l>"
+      << pl.registration << "</td><td>" << r.cases << "</td><td>" << fmt(r.rotation_max_deg_mean) << "</td><td>"
+      << fmt(r.rotation_max_deg_worst) << "</td><td>" << fmt(r.translation_max_mm_mean) << "</td><td>";
+    if (pl.cloud_filters.empty()) {
+      h << "-</td><td>-";
+    } else {
+      h << fmt(r.peduncle_kept) << "</td><td>" << fmt(r.body_kept);
+    }
+    h << "</td><td>" << r.failed << "</td></tr>\n";
   }
   h << "</table>\n";
 

@@ -101,7 +101,7 @@ std::string results_csv(const SceneSet& set, const std::vector<CaseResult>& case
 
 std::string timings_csv(const SceneSet& set, const std::vector<CaseResult>& cases) {
   std::ostringstream s;
-  s << "scene,condition,bunch,estimator,seconds,peak_heap_mb,scan_seconds,registration_seconds\n";
+  s << "scene,condition,bunch,estimator,seconds,peak_heap_mb,scan_seconds,segmentation_seconds,registration_seconds,filter_seconds\n";
   for (const auto& c : cases) {
     const Condition& cond = set.conditions[static_cast<std::size_t>(c.condition)];
     std::string last;
@@ -110,7 +110,8 @@ std::string timings_csv(const SceneSet& set, const std::vector<CaseResult>& case
       last = r.estimator;
       s << csv_field(set.base.name) << "," << csv_field(cond.label) << "," << c.bunch << "," << csv_field(r.estimator)
         << "," << num(r.seconds) << "," << (r.peak_heap_mb >= 0 ? num(r.peak_heap_mb) : "NaN") << ","
-        << num(c.scan_seconds) << "," << num(c.registration_seconds) << "\n";
+        << num(c.scan_seconds) << "," << num(c.segmentation_seconds) << "," << num(c.registration_seconds) << ","
+        << num(c.filter_seconds) << "\n";
     }
   }
   return s.str();
@@ -157,7 +158,12 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
                    {"registration", set.conditions[c].scene.pipeline.registration},
                    {"rotation_error_max_deg_mean", regs[c].rotation_max_deg_mean},
                    {"rotation_error_max_deg_worst", regs[c].rotation_max_deg_worst},
-                   {"translation_error_max_mm_mean", regs[c].translation_max_mm_mean}});
+                   {"translation_error_max_mm_mean", regs[c].translation_max_mm_mean},
+                   {"segmentation", set.conditions[c].scene.pipeline.segmentation},
+                   {"segmentation_precision_mean", regs[c].segmentation_precision},
+                   {"segmentation_recall_mean", regs[c].segmentation_recall},
+                   {"peduncle_kept_mean", regs[c].peduncle_kept},
+                   {"body_kept_mean", regs[c].body_kept}});
   }
   j["registration"] = reg;
   return j;
@@ -339,12 +345,20 @@ std::vector<RegistrationRow> registration_rows(const SceneSet& set, const std::v
     ++r.cases;
     r.rotation_max_deg_mean += cr.rotation_error_max_deg;
     r.translation_max_mm_mean += cr.translation_error_max_mm;
+    r.segmentation_precision += cr.segmentation_precision;
+    r.segmentation_recall += cr.segmentation_recall;
+    r.peduncle_kept += cr.peduncle_kept;
+    r.body_kept += cr.body_kept;
     r.rotation_max_deg_worst = std::max(r.rotation_max_deg_worst, cr.rotation_error_max_deg);
   }
   for (auto& r : rows) {
     if (r.cases > 0) {
       r.rotation_max_deg_mean /= r.cases;
       r.translation_max_mm_mean /= r.cases;
+      r.segmentation_precision /= r.cases;
+      r.segmentation_recall /= r.cases;
+      r.peduncle_kept /= r.cases;
+      r.body_kept /= r.cases;
     }
   }
   return rows;

@@ -51,6 +51,8 @@ struct RegistrationRow {
   double rotation_max_deg_mean = 0;   // mean over cases of the per-case worst view
   double rotation_max_deg_worst = 0;
   double translation_max_mm_mean = 0;
+  // Means over the cases of the pipeline's label scores (case_run.h).
+  double segmentation_precision = 0, segmentation_recall = 0, peduncle_kept = 0, body_kept = 0;
 };
 std::vector<RegistrationRow> registration_rows(const SceneSet& set, const std::vector<CaseResult>& cases);
 

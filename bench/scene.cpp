@@ -12,7 +12,14 @@
 namespace grapebench {
 
 nlohmann::ordered_json PipelineSpec::describe() const {
+  auto steps = [](const std::vector<FilterSpec>& list) {
+    nlohmann::ordered_json a = nlohmann::ordered_json::array();
+    for (const auto& f : list) a.push_back({{"type", f.type}, {"params", f.params}});
+    return a;
+  };
   return {{"segmentation", segmentation},
+          {"view_filters", steps(view_filters)},
+          {"cloud_filters", steps(cloud_filters)},
           {"registration", registration},
           {"icp",
            {{"max_correspondence_distance_m", icp.max_correspondence_distance},
@@ -30,7 +37,16 @@ namespace {
 
 PipelineSpec read_pipeline(const ConfigNode& n) {
   PipelineSpec p;
-  p.segmentation = n.get_choice("segmentation", p.segmentation, {"labels"});
+  p.segmentation = n.get_choice("segmentation", p.segmentation, {"labels", "none"});
+  for (const char* list : {"view_filters", "cloud_filters"}) {
+    if (!n.has(list)) continue;
+    for (const auto& f : n.children(list)) {
+      FilterSpec spec;
+      spec.type = find_filter(f).type;
+      spec.run = find_filter(f).create(f, spec.params);
+      (list == std::string("view_filters") ? p.view_filters : p.cloud_filters).push_back(std::move(spec));
+    }
+  }
   p.registration =
       n.get_choice("registration", p.registration, {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp"});
   if (n.has("icp")) {

@@ -20,11 +20,23 @@ struct BunchGroup {
   BunchParams params;  // the preset with the scene's overrides applied
 };
 
-// How the views of a scan become one bunch cloud (scene section `pipeline:`).
+// One registered pipeline step with its parameters (defaults filled).
+struct FilterSpec {
+  std::string type;
+  nlohmann::ordered_json params;
+  BoundFilter run;
+};
+
+// How the views of a scan become one bunch cloud (scene section `pipeline:`):
+// segmentation, view_filters on each view (camera frame), registration, then
+// cloud_filters on the registered cloud.
 struct PipelineSpec {
   // labels: keep the returns whose ground-truth label is a bunch part (an oracle
-  // segmentation, so registration and estimators are scored alone).
+  // segmentation, so registration and estimators are scored alone); none: keep every
+  // return, so view_filters (pass_through, region_growing...) must find the bunch.
   std::string segmentation = "labels";
+  std::vector<FilterSpec> view_filters;
+  std::vector<FilterSpec> cloud_filters;
   // true_poses | seed000_pca_icp | known_angle_icp | plain_icp
   std::string registration = "true_poses";
   IcpParams icp;

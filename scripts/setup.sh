@@ -13,6 +13,7 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   python3-open3d  # the external-estimator example and its test
+  libopen3d-dev   # benchmark only: bench/perf/open3d_perf.cpp compares with Open3D
 )
 
 missing=()

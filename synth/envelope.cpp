@@ -6,6 +6,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Exact_rational.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_2.h>
 #include <CGAL/convex_hull_3.h>
 
 #include <array>
@@ -111,6 +112,22 @@ HullMesh convex_hull(const std::vector<Vec3>& points) {
   }
   out.volume = exact_volume(m);
   return out;
+}
+
+double convex_perimeter_2d(const std::vector<Eigen::Vector2d>& points) {
+  using K2 = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<K2::Point_2> in, hull;
+  in.reserve(points.size());
+  for (const auto& p : points) in.emplace_back(p.x(), p.y());
+  CGAL::convex_hull_2(in.begin(), in.end(), std::back_inserter(hull));
+  if (hull.size() < 2) return 0;
+  double total = 0;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const auto& p = hull[i];
+    const auto& q = hull[(i + 1) % hull.size()];
+    total += std::hypot(q.x() - p.x(), q.y() - p.y());
+  }
+  return total;
 }
 
 std::vector<Eigen::Vector4d> convex_hull_planes(const std::vector<Vec3>& points) {

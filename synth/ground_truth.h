@@ -40,6 +40,12 @@ struct GroundTruth {
   Vec3 pca_centre = Vec3::Zero();
   Eigen::Matrix3d pca_axes = Eigen::Matrix3d::Identity();
   Vec3 pca_extent = Vec3::Zero();  // m: major, middle, minor
+  // Tape-measure girths (seed 002 Sect. 3.2, measured "with a soft ruler"): perimeter of
+  // the convex outline of the exact section through the PCA box centre (the midpoint of
+  // the extents above) normal to the major, middle and minor axis, in m. Berries are
+  // sliced exactly (discs, perimeter within 1e-6); stems other than the peduncle by 64
+  // surface lines each.
+  Vec3 section_perimeter = Vec3::Zero();
   // Hanging frame (seed 001): height along the vertical of the bunch without its
   // peduncle; from the cutting point down to the lowest point; maximum diameter
   // about the vertical axis through the cutting point.
@@ -75,6 +81,9 @@ HullMesh convex_hull(const std::vector<Vec3>& points);
 // than 4 points or a flat set.
 double convex_hull_volume(const std::vector<Vec3>& points, double* min_facet_distance = nullptr,
                           const Vec3& origin = Vec3::Zero());
+// Perimeter of the convex hull of 2-D points (CGAL), m; 0 for fewer than 2 points.
+double convex_perimeter_2d(const std::vector<Eigen::Vector2d>& points);
+
 // Facet planes (n·x <= d, n unit outward) of the convex hull of points.
 std::vector<Eigen::Vector4d> convex_hull_planes(const std::vector<Vec3>& points);
 

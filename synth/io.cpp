@@ -76,7 +76,12 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g,
                     {"extent_m", vec(g.pca_extent)},
                     {"height_m", g.pca_extent[0]},
                     {"length_m", g.pca_extent[1]},
-                    {"width_m", g.pca_extent[2]}};
+                    {"width_m", g.pca_extent[2]},
+                    {"section_perimeter_m",
+                     {{"definition", "convex outline of the exact section through the box centre normal to each axis"},
+                      {"height_axis", g.section_perimeter[0]},
+                      {"length_axis", g.section_perimeter[1]},
+                      {"width_axis", g.section_perimeter[2]}}}};
   j["hanging_frame"] = {{"height_m", g.height},
                         {"height_from_cutting_point_m", g.height_from_cutting_point},
                         {"max_diameter_m", g.max_diameter}};

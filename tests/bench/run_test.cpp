@@ -114,6 +114,50 @@ TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
   EXPECT_NE(m.find("[1, 10000]"), std::string::npos) << m;
 }
 
+TEST(Pipeline, FilterStepsAreRegisteredAndStrict) {
+  std::string m = error_of(std::string(kScene) + "pipeline:\n  view_filters:\n    - type: median_magic\n");
+  EXPECT_NE(m.find("scene.yaml:23"), std::string::npos) << m;
+  EXPECT_NE(m.find("allowed: pass_through"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "pipeline:\n  cloud_filters:\n    - type: voxel_grid\n      leaf: 5\n");
+  EXPECT_NE(m.find("scene.yaml:24"), std::string::npos) << m;
+  EXPECT_NE(m.find("pipeline.cloud_filters[0].leaf"), std::string::npos) << m;
+  EXPECT_NE(m.find("[0.0001, 1]"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "pipeline:\n  view_filters:\n    - type: pass_through\n      min: [0, 0, 1]\n      max: [1, 1, 0.5]\n");
+  EXPECT_NE(m.find("must exceed `min`"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "pipeline:\n  cloud_filters:\n    - type: mls\n      radios: 0.01\n");
+  EXPECT_NE(m.find("unknown key 'pipeline.cloud_filters[0].radios'"), std::string::npos) << m;
+}
+
+// Every return kept, then seed 000's clipping and region growing find the bunch in
+// front of the plate; LCCP takes the stalk off; the label scores say how well.
+TEST(Pipeline, SegmentationAndStalkRemovalAreScoredAgainstTheLabels) {
+  const std::string scene = std::string(kScene) + R"(  - type: section_perimeters
+background:
+  type: plate
+pipeline:
+  segmentation: none
+  view_filters:
+    - type: pass_through
+      min: [-0.3, -0.4, 0.5]
+      max: [0.3, 0.3, 1.5]
+    - type: region_growing
+      cluster_tolerance: 0.04  # the half-resolution Kinect's gaps are twice as wide
+  cloud_filters:
+    - type: lccp_stalk_removal
+)";
+  const fs::path out = fresh_dir("pipeline");
+  const RunOutcome r = run_scene_set(parse_scene_set(scene, "pipeline.yaml"), quiet(out));
+  ASSERT_TRUE(r.complete);
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  const auto& reg = summary["registration"][0];
+  EXPECT_GT(reg["segmentation_precision_mean"].get<double>(), 0.98) << reg.dump();
+  EXPECT_GT(reg["segmentation_recall_mean"].get<double>(), 0.9) << reg.dump();
+  EXPECT_LT(reg["peduncle_kept_mean"].get<double>(), 0.5) << reg.dump();
+  EXPECT_GT(reg["body_kept_mean"].get<double>(), 0.95) << reg.dump();
+  for (const auto& row : summary["scores"]) EXPECT_EQ(row["succeeded"].get<int>(), 3) << row.dump();
+  EXPECT_NE(slurp(out / "report.html").find("peduncle points kept"), std::string::npos);
+}
+
 TEST(Run, ScoresEveryEstimatorAndWritesAllFiles) {
   const fs::path out = fresh_dir("files");
   const RunOutcome r = run_scene_set(parse_scene_set(kScene, "tiny.yaml"), quiet(out));

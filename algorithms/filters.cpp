@@ -1,0 +1,361 @@
+#include "algorithms/filters.h"
+
+#include <pcl/features/normal_3d.h>
+#include <pcl/filters/crop_box.h>
+#include <pcl/filters/statistical_outlier_removal.h>
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+#include <pcl/segmentation/lccp_segmentation.h>
+#include <pcl/segmentation/region_growing.h>
+#include <pcl/segmentation/supervoxel_clustering.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace grapebench {
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+
+// PCL works in single precision: points are shifted by `centre` (the cloud's mean) so
+// float keeps micrometres.
+Cloud::Ptr to_pcl(const PointCloud& cloud, Eigen::RowVector3d& centre) {
+  centre = cloud.colwise().mean();
+  auto out = pcl::make_shared<Cloud>();
+  out->resize(static_cast<std::size_t>(cloud.rows()));
+  for (Eigen::Index i = 0; i < cloud.rows(); ++i) {
+    const Eigen::RowVector3d q = cloud.row(i) - centre;
+    (*out)[static_cast<std::size_t>(i)] = pcl::PointXYZ(static_cast<float>(q(0)), static_cast<float>(q(1)), static_cast<float>(q(2)));
+  }
+  return out;
+}
+
+FilteredCloud subset(const PointCloud& cloud, std::vector<Eigen::Index> keep, std::string notes) {
+  std::sort(keep.begin(), keep.end());
+  FilteredCloud f;
+  f.points.resize(static_cast<Eigen::Index>(keep.size()), 3);
+  for (std::size_t k = 0; k < keep.size(); ++k) f.points.row(static_cast<Eigen::Index>(k)) = cloud.row(keep[k]);
+  f.source = std::move(keep);
+  f.notes = std::move(notes);
+  return f;
+}
+
+std::vector<Eigen::Index> to_rows(const pcl::Indices& idx) { return {idx.begin(), idx.end()}; }
+
+void check_range(double v, double lo, double hi, const char* who, const char* name, const char* unit = "") {
+  if (!(v >= lo && v <= hi)) {
+    std::ostringstream s;
+    s << who << ": " << name << " = " << v << unit << " outside the allowed range [" << lo << ", " << hi << "]";
+    throw InputError(s.str());
+  }
+}
+
+// Principal extents (largest first) and the major axis of some rows of a cloud.
+struct Spread {
+  Vec3 extent = Vec3::Zero();
+  Vec3 axis = Vec3::UnitX();
+  double plane_rms = 0;  // RMS distance to the best-fit plane, m
+};
+Spread spread(const PointCloud& cloud, const std::vector<Eigen::Index>& rows) {
+  Spread s;
+  if (rows.size() < 3) return s;
+  Vec3 mean = Vec3::Zero();
+  for (auto r : rows) mean += cloud.row(r).transpose();
+  mean /= static_cast<double>(rows.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (auto r : rows) {
+    const Vec3 d = cloud.row(r).transpose() - mean;
+    cov += d * d.transpose();
+  }
+  cov /= static_cast<double>(rows.size());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  s.plane_rms = std::sqrt(std::max(0.0, eig.eigenvalues()(0)));
+  s.axis = eig.eigenvectors().col(2);
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 u = eig.eigenvectors().col(2 - k);
+    double lo = 1e300, hi = -1e300;
+    for (auto r : rows) {
+      const double t = cloud.row(r).dot(u);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    s.extent(k) = hi - lo;
+  }
+  return s;
+}
+
+}  // namespace
+
+FilteredCloud pass_through(const PointCloud& cloud, const PassThroughParams& p) {
+  require_points(cloud, 0, "pass_through");
+  for (int k = 0; k < 3; ++k) {
+    if (!(p.min(k) < p.max(k))) throw InputError("pass_through: min must be below max on every axis (x, y, z)");
+  }
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index i = 0; i < cloud.rows(); ++i) {
+    const Vec3 q = cloud.row(i).transpose();
+    if ((q.array() >= p.min.array()).all() && (q.array() <= p.max.array()).all()) keep.push_back(i);
+  }
+  const auto n = keep.size();
+  return subset(cloud, std::move(keep), "kept " + std::to_string(n) + " of " + std::to_string(cloud.rows()) + " points in the box");
+}
+
+FilteredCloud statistical_outlier_removal(const PointCloud& cloud, const OutlierRemovalParams& p) {
+  require_points(cloud, 2, "statistical_outlier_removal");
+  check_range(p.mean_k, 1, 1000, "statistical_outlier_removal", "mean_k");
+  check_range(p.stddev_mul, 0, 100, "statistical_outlier_removal", "stddev_mul");
+  Eigen::RowVector3d centre;
+  const auto in = to_pcl(cloud, centre);
+  pcl::StatisticalOutlierRemoval<pcl::PointXYZ> sor;
+  sor.setInputCloud(in);
+  sor.setMeanK(p.mean_k);
+  sor.setStddevMulThresh(p.stddev_mul);
+  pcl::Indices idx;
+  sor.filter(idx);
+  const auto n = idx.size();
+  return subset(cloud, to_rows(idx), "removed " + std::to_string(cloud.rows() - static_cast<Eigen::Index>(n)) + " outliers");
+}
+
+FilteredCloud voxel_grid(const PointCloud& cloud, const VoxelGridParams& p) {
+  require_points(cloud, 1, "voxel_grid");
+  check_range(p.leaf, 1e-4, 1, "voxel_grid", "leaf", " m");
+  Eigen::RowVector3d centre;
+  const auto in = to_pcl(cloud, centre);
+  const Eigen::RowVector3d span = cloud.colwise().maxCoeff() - cloud.colwise().minCoeff();
+  if ((span.array() / p.leaf).prod() > 9e18) throw InputError("voxel_grid: the cloud spans too many voxels of this leaf");
+  pcl::VoxelGrid<pcl::PointXYZ> grid;
+  grid.setInputCloud(in);
+  const auto leaf = static_cast<float>(p.leaf);
+  grid.setLeafSize(leaf, leaf, leaf);
+  Cloud out;
+  grid.filter(out);
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(in);
+  FilteredCloud f;
+  f.points.resize(static_cast<Eigen::Index>(out.size()), 3);
+  f.source.resize(out.size());
+  pcl::Indices nn(1);
+  std::vector<float> d2(1);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const auto& q = out[i];
+    f.points.row(static_cast<Eigen::Index>(i)) = Eigen::RowVector3d(q.x, q.y, q.z) + centre;
+    tree.nearestKSearch(q, 1, nn, d2);
+    f.source[i] = nn[0];
+  }
+  f.notes = std::to_string(cloud.rows()) + " points to " + std::to_string(out.size()) + " voxels";
+  return f;
+}
+
+FilteredCloud region_growing_segmentation(const PointCloud& cloud, const RegionGrowingParams& p) {
+  const char* who = "region_growing";
+  require_points(cloud, 4, who);
+  check_range(p.normal_k, 3, 500, who, "normal_k");
+  check_range(p.neighbours, 3, 500, who, "neighbours");
+  check_range(p.smoothness_deg, 0.1, 90, who, "smoothness_deg", " deg");
+  check_range(p.curvature, 0, 1, who, "curvature");
+  check_range(p.min_region, 1, 1e6, who, "min_region");
+  check_range(p.plane_rms, 1e-5, 0.1, who, "plane_rms", " m");
+  check_range(p.min_background_extent, 1e-3, 10, who, "min_background_extent", " m");
+  check_range(p.cluster_tolerance, 0, 1, who, "cluster_tolerance", " m");
+  Eigen::RowVector3d centre;
+  const auto in = to_pcl(cloud, centre);
+  auto tree = pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
+  auto normals = pcl::make_shared<pcl::PointCloud<pcl::Normal>>();
+  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+  ne.setInputCloud(in);
+  ne.setSearchMethod(tree);
+  ne.setKSearch(std::min<int>(p.normal_k, static_cast<int>(cloud.rows()) - 1));
+  ne.compute(*normals);
+  pcl::RegionGrowing<pcl::PointXYZ, pcl::Normal> rg;
+  rg.setMinClusterSize(p.min_region);
+  rg.setMaxClusterSize(std::numeric_limits<int>::max());
+  rg.setSearchMethod(tree);
+  rg.setNumberOfNeighbours(std::min<int>(p.neighbours, static_cast<int>(cloud.rows()) - 1));
+  rg.setInputCloud(in);
+  rg.setInputNormals(normals);
+  rg.setSmoothnessThreshold(static_cast<float>(p.smoothness_deg * M_PI / 180));
+  rg.setCurvatureThreshold(static_cast<float>(p.curvature));
+  std::vector<pcl::PointIndices> regions;
+  rg.extract(regions);
+  std::vector<char> background(static_cast<std::size_t>(cloud.rows()), 0);
+  int removed_regions = 0;
+  for (const auto& r : regions) {
+    const std::vector<Eigen::Index> rows = to_rows(r.indices);
+    const Spread s = spread(cloud, rows);
+    if (s.plane_rms < p.plane_rms && s.extent(0) > p.min_background_extent) {
+      ++removed_regions;
+      for (auto i : rows) background[static_cast<std::size_t>(i)] = 1;
+    }
+  }
+  std::vector<Eigen::Index> rest;
+  for (Eigen::Index i = 0; i < cloud.rows(); ++i) {
+    if (!background[static_cast<std::size_t>(i)]) rest.push_back(i);
+  }
+  std::ostringstream notes;
+  notes << regions.size() << " regions, " << removed_regions << " flat background regions removed";
+  if (p.cluster_tolerance > 0 && !rest.empty()) {
+    auto rest_cloud = pcl::make_shared<Cloud>();
+    for (auto i : rest) rest_cloud->push_back((*in)[static_cast<std::size_t>(i)]);
+    pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+    ec.setClusterTolerance(p.cluster_tolerance);
+    ec.setMinClusterSize(1);
+    ec.setMaxClusterSize(std::numeric_limits<int>::max());
+    ec.setSearchMethod(pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+    ec.setInputCloud(rest_cloud);
+    std::vector<pcl::PointIndices> clusters;
+    ec.extract(clusters);  // sorted by decreasing size
+    if (!clusters.empty()) {
+      std::vector<Eigen::Index> keep;
+      for (auto i : clusters.front().indices) keep.push_back(rest[static_cast<std::size_t>(i)]);
+      notes << "; kept the largest of " << clusters.size() << " clusters";
+      rest = std::move(keep);
+    }
+  }
+  return subset(cloud, std::move(rest), notes.str());
+}
+
+FilteredCloud lccp_stalk_removal(const PointCloud& cloud, const LccpStalkParams& p) {
+  const char* who = "lccp_stalk_removal";
+  require_points(cloud, 4, who);
+  check_range(p.voxel_resolution, 1e-4, 0.1, who, "voxel_resolution", " m");
+  check_range(p.seed_resolution, 1e-3, 0.5, who, "seed_resolution", " m");
+  if (!(p.seed_resolution > p.voxel_resolution)) throw InputError("lccp_stalk_removal: seed_resolution must exceed voxel_resolution");
+  check_range(p.spatial_importance, 0, 100, who, "spatial_importance");
+  check_range(p.normal_importance, 0, 100, who, "normal_importance");
+  check_range(p.concavity_tolerance_deg, 0, 90, who, "concavity_tolerance_deg", " deg");
+  check_range(p.min_segment_size, 0, 1000, who, "min_segment_size");
+  check_range(p.max_stalk_diameter, 1e-3, 0.1, who, "max_stalk_diameter", " m");
+  check_range(p.elongation, 1, 100, who, "elongation");
+  check_range(p.end_band, 0, 0.2, who, "end_band", " m");
+  check_range(p.max_stalk_segments, 1, 20, who, "max_stalk_segments");
+  Eigen::RowVector3d centre;
+  const auto in = to_pcl(cloud, centre);
+
+  // Supervoxels, their adjacency, then LCCP's merge of convex-connected supervoxels.
+  pcl::SupervoxelClustering<pcl::PointXYZ> sv(static_cast<float>(p.voxel_resolution), static_cast<float>(p.seed_resolution));
+  sv.setUseSingleCameraTransform(false);
+  sv.setInputCloud(in);
+  sv.setColorImportance(0);
+  sv.setSpatialImportance(static_cast<float>(p.spatial_importance));
+  sv.setNormalImportance(static_cast<float>(p.normal_importance));
+  std::map<std::uint32_t, pcl::Supervoxel<pcl::PointXYZ>::Ptr> supervoxels;
+  sv.extract(supervoxels);
+  if (supervoxels.empty()) throw InputError("lccp_stalk_removal: no supervoxels (cloud too sparse for voxel_resolution)");
+  std::multimap<std::uint32_t, std::uint32_t> adjacency;
+  sv.getSupervoxelAdjacency(adjacency);
+  pcl::LCCPSegmentation<pcl::PointXYZ> lccp;
+  lccp.setConcavityToleranceThreshold(static_cast<float>(p.concavity_tolerance_deg));
+  lccp.setSanityCheck(p.sanity_check);
+  lccp.setSmoothnessCheck(true, static_cast<float>(p.voxel_resolution), static_cast<float>(p.seed_resolution), 0.1f);
+  lccp.setKFactor(0);
+  lccp.setMinSegmentSize(static_cast<unsigned>(p.min_segment_size));
+  lccp.setInputSupervoxels(supervoxels, adjacency);
+  lccp.segment();
+  const auto labelled = sv.getLabeledCloud();  // one label per input point (0: unlabelled)
+  lccp.relabelCloud(*labelled);
+  if (labelled->size() != in->size()) throw std::logic_error("lccp_stalk_removal: PCL returned a labelled cloud of another size");
+
+  std::map<std::uint32_t, std::vector<Eigen::Index>> segments;
+  for (std::size_t i = 0; i < labelled->size(); ++i) segments[(*labelled)[i].label].push_back(static_cast<Eigen::Index>(i));
+
+  std::vector<char> removed(static_cast<std::size_t>(cloud.rows()), 0);
+  const Spread whole = spread(cloud, [&] {
+    std::vector<Eigen::Index> all(static_cast<std::size_t>(cloud.rows()));
+    for (Eigen::Index i = 0; i < cloud.rows(); ++i) all[static_cast<std::size_t>(i)] = i;
+    return all;
+  }());
+  const Vec3 axis = whole.axis;
+  int removed_segments = 0;
+  std::size_t removed_points = 0;
+  std::vector<Eigen::Index> stalk;  // rows removed so far
+  const double touch2 = std::pow(2 * p.voxel_resolution, 2);
+  auto touches_stalk = [&](const std::vector<Eigen::Index>& rows) {
+    for (auto r : rows) {
+      for (auto q : stalk) {
+        if ((cloud.row(r) - cloud.row(q)).squaredNorm() <= touch2) return true;
+      }
+    }
+    return false;
+  };
+  for (int round = 0; round < p.max_stalk_segments; ++round) {
+    // Ends of what is left along the cloud's major axis.
+    double lo = 1e300, hi = -1e300;
+    for (Eigen::Index i = 0; i < cloud.rows(); ++i) {
+      if (removed[static_cast<std::size_t>(i)]) continue;
+      const double t = cloud.row(i).dot(axis);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    // The first stalk segment is thin, elongated and reaches an end; the stalk then
+    // continues through thin segments touching it (supervoxels cut a stalk into
+    // pieces shorter than its elongation test).
+    std::uint32_t best = 0;
+    double best_reach = -1;
+    for (const auto& [label, rows] : segments) {
+      if (label == 0 || removed[static_cast<std::size_t>(rows.front())]) continue;
+      if (stalk.empty() && rows.size() < 3) continue;
+      const Spread s = spread(cloud, rows);
+      if (!(s.extent(1) < p.max_stalk_diameter)) continue;
+      if (stalk.empty()) {
+        if (!(s.extent(0) > p.elongation * s.extent(1))) continue;
+        double slo = 1e300, shi = -1e300;
+        for (auto r : rows) {
+          const double t = cloud.row(r).dot(axis);
+          slo = std::min(slo, t);
+          shi = std::max(shi, t);
+        }
+        if (!(shi >= hi - p.end_band || slo <= lo + p.end_band)) continue;
+      } else if (s.extent(0) > p.max_stalk_diameter && !(s.extent(0) > p.elongation * s.extent(1))) {
+        continue;  // a wide piece: not a stalk
+      } else if (!touches_stalk(rows)) {
+        continue;
+      }
+      if (s.extent(0) > best_reach) {
+        best_reach = s.extent(0);
+        best = label;
+      }
+    }
+    if (best_reach < 0) break;
+    for (auto r : segments[best]) {
+      removed[static_cast<std::size_t>(r)] = 1;
+      stalk.push_back(r);
+    }
+    removed_points += segments[best].size();
+    ++removed_segments;
+  }
+  // Points no supervoxel took (label 0) go with the stalk when they touch it: left
+  // behind, a few at the stalk's cut end would still set the height.
+  if (!stalk.empty()) {
+    std::vector<Eigen::Index> loose;
+    for (auto it = segments.find(0); it != segments.end(); it = segments.end()) loose = it->second;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (auto r : loose) {
+        if (removed[static_cast<std::size_t>(r)] || !touches_stalk({r})) continue;
+        removed[static_cast<std::size_t>(r)] = 1;
+        stalk.push_back(r);
+        ++removed_points;
+        grew = true;
+      }
+    }
+  }
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index i = 0; i < cloud.rows(); ++i) {
+    if (!removed[static_cast<std::size_t>(i)]) keep.push_back(i);
+  }
+  std::ostringstream notes;
+  notes << supervoxels.size() << " supervoxels, " << segments.size() << " LCCP segments, removed " << removed_segments
+        << " stalk segments (" << removed_points << " points)";
+  return subset(cloud, std::move(keep), notes.str());
+}
+
+}  // namespace grapebench
