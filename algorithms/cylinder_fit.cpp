@@ -1,0 +1,67 @@
+#include "algorithms/cylinder_fit.h"
+
+#include <pcl/features/normal_3d.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/sample_consensus/method_types.h>
+#include <pcl/sample_consensus/model_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/sac_segmentation.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace grapebench {
+
+CylinderFit cylinder_fit(const PointCloud& cloud, const CylinderFitParams& p) {
+  require_points(cloud, 10, "cylinder_fit");
+  if (!(p.max_distance >= 1e-4 && p.max_distance <= 0.5)) throw InputError("cylinder_fit: max_distance must lie in [1e-4, 0.5] m");
+  if (!(p.min_radius >= 1e-3 && p.max_radius <= 1 && p.min_radius < p.max_radius)) {
+    throw InputError("cylinder_fit: need 1e-3 <= min_radius < max_radius <= 1 m");
+  }
+  if (p.max_iterations < 1 || p.max_iterations > 1000000) throw InputError("cylinder_fit: max_iterations must lie in [1, 1e6]");
+  if (!(p.normal_weight >= 0 && p.normal_weight <= 1)) throw InputError("cylinder_fit: normal_weight must lie in [0, 1]");
+  if (p.normal_k < 3 || p.normal_k > 500) throw InputError("cylinder_fit: normal_k must lie in [3, 500]");
+  const Eigen::RowVector3d mean = cloud.colwise().mean();  // float keeps micrometres near the origin
+  auto in = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (Eigen::Index i = 0; i < cloud.rows(); ++i) {
+    const Eigen::RowVector3d q = cloud.row(i) - mean;
+    in->push_back(pcl::PointXYZ(static_cast<float>(q(0)), static_cast<float>(q(1)), static_cast<float>(q(2))));
+  }
+  auto normals = pcl::make_shared<pcl::PointCloud<pcl::Normal>>();
+  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
+  ne.setInputCloud(in);
+  ne.setSearchMethod(pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+  ne.setKSearch(std::min<int>(p.normal_k, static_cast<int>(cloud.rows()) - 1));
+  ne.compute(*normals);
+  pcl::SACSegmentationFromNormals<pcl::PointXYZ, pcl::Normal> seg;
+  seg.setOptimizeCoefficients(true);
+  seg.setModelType(pcl::SACMODEL_CYLINDER);
+  seg.setMethodType(pcl::SAC_MSAC);
+  seg.setNormalDistanceWeight(p.normal_weight);
+  seg.setMaxIterations(p.max_iterations);
+  seg.setDistanceThreshold(p.max_distance);
+  seg.setRadiusLimits(p.min_radius, p.max_radius);
+  seg.setInputCloud(in);
+  seg.setInputNormals(normals);
+  pcl::PointIndices inliers;
+  pcl::ModelCoefficients coeff;
+  seg.segment(inliers, coeff);
+  if (inliers.indices.empty() || coeff.values.size() != 7) throw InputError("cylinder_fit: no cylinder found");
+  CylinderFit f;
+  f.point = Vec3(coeff.values[0], coeff.values[1], coeff.values[2]) + mean.transpose();
+  f.axis = Vec3(coeff.values[3], coeff.values[4], coeff.values[5]).normalized();
+  f.radius = coeff.values[6];
+  f.diameter = 2 * f.radius;
+  double lo = 1e300, hi = -1e300;
+  for (auto i : inliers.indices) {
+    const double t = (cloud.row(i).transpose() - f.point).dot(f.axis);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
+  f.height = hi - lo;
+  f.inliers = static_cast<int>(inliers.indices.size());
+  return f;
+}
+
+}  // namespace grapebench
