@@ -335,8 +335,8 @@ FilteredCloud lccp_stalk_removal(const PointCloud& cloud, const LccpStalkParams&
   // Points no supervoxel took (label 0) go with the stalk when they touch it: left
   // behind, a few at the stalk's cut end would still set the height.
   if (!stalk.empty()) {
-    std::vector<Eigen::Index> loose;
-    for (auto it = segments.find(0); it != segments.end(); it = segments.end()) loose = it->second;
+    const auto unlabelled = segments.find(0);
+    const std::vector<Eigen::Index> loose = unlabelled == segments.end() ? std::vector<Eigen::Index>{} : unlabelled->second;
     for (bool grew = true; grew;) {
       grew = false;
       for (auto r : loose) {

@@ -53,6 +53,19 @@ Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) 
   return t;
 }
 
+// Runs pipeline steps in order on a cloud and its per-point labels (each step says
+// which input point every output point comes from).
+void apply_filters(const std::vector<FilterSpec>& steps, PointCloud& cloud, std::vector<std::uint8_t>& labels) {
+  for (const auto& f : steps) {
+    if (cloud.rows() == 0) return;
+    FilteredCloud out = f.run(cloud);
+    std::vector<std::uint8_t> next(out.source.size());
+    for (std::size_t i = 0; i < next.size(); ++i) next[i] = labels[static_cast<std::size_t>(out.source[i])];
+    cloud = std::move(out.points);
+    labels = std::move(next);
+  }
+}
+
 }  // namespace
 
 nlohmann::ordered_json condition_json(const Condition& c) {
@@ -129,14 +142,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
       }
       RegistrationView rv;
       rv.points = to_point_cloud(pts);
-      for (const auto& f : pl.view_filters) {
-        if (rv.points.rows() == 0) break;
-        FilteredCloud out = f.run(rv.points);
-        std::vector<std::uint8_t> next(out.source.size());
-        for (std::size_t i = 0; i < next.size(); ++i) next[i] = labels[static_cast<std::size_t>(out.source[i])];
-        rv.points = std::move(out.points);
-        labels = std::move(next);
-      }
+      apply_filters(pl.view_filters, rv.points, labels);
       for (auto l : labels) kept_bunch += is_bunch(l);
       kept += labels.size();
       rv.name = v.rig.name;
@@ -208,14 +214,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
       return static_cast<double>(std::count(labels.begin(), labels.end(), static_cast<std::uint8_t>(part)));
     };
     const double peduncle_before = count(Part::Peduncle), body_before = static_cast<double>(kept_bunch) - peduncle_before;
-    for (const auto& f : pl.cloud_filters) {
-      if (merged.rows() == 0) break;
-      FilteredCloud out = f.run(merged);
-      std::vector<std::uint8_t> next(out.source.size());
-      for (std::size_t i = 0; i < next.size(); ++i) next[i] = labels[static_cast<std::size_t>(out.source[i])];
-      merged = std::move(out.points);
-      labels = std::move(next);
-    }
+    apply_filters(pl.cloud_filters, merged, labels);
     if (!pl.cloud_filters.empty()) {
       r.peduncle_kept = peduncle_before > 0 ? count(Part::Peduncle) / peduncle_before : 0;
       const double body_after = static_cast<double>(std::count_if(labels.begin(), labels.end(), is_bunch)) - count(Part::Peduncle);
