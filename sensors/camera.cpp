@@ -23,13 +23,6 @@ Intrinsics intrinsics_from_fov(int width, int height, double hfov_deg, double vf
   return k;
 }
 
-Ray Camera::ray(double u, double v) const {
-  // R (x, y, 1) as a sum of the rotation's columns: cheaper than a matrix product.
-  const auto R = pose.linear();
-  const Vec3 d = ((u - K.cx) / K.fx) * R.col(0) + ((v - K.cy) / K.fy) * R.col(1) + R.col(2);
-  return {pose.translation(), d / d.norm()};
-}
-
 bool Camera::ball_pixels(const Vec3& c, double r, int& u0, int& v0, int& u1, int& v1) const {
   const Vec3 p = to_camera(c);
   if (p.z() <= r) {  // the camera is inside or behind the ball's front: take all pixels

@@ -4,6 +4,8 @@
 
 #include "sensors/ray_scene.h"
 
+#include <cmath>
+
 #include <Eigen/Geometry>
 
 namespace grapebench {
@@ -24,8 +26,13 @@ struct Camera {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // camera to world
 
   Vec3 centre() const { return pose.translation(); }
-  // World ray through image point (u, v) in pixels.
-  Ray ray(double u, double v) const;
+  PixelRays pixel_rays() const {
+    const auto R = pose.linear();
+    const Vec3 c0 = R.col(0) / K.fx, c1 = R.col(1) / K.fy;
+    return {pose.translation(), c0, c1, Vec3(R.col(2) - K.cx * c0 - K.cy * c1)};
+  }
+  // World ray through image point (u, v) in pixels; in loops, hoist pixel_rays().
+  Ray ray(double u, double v) const { return pixel_rays()(u, v); }
   Vec3 to_camera(const Vec3& world) const { return pose.inverse() * world; }
   // Pixel rectangle [u0, u1) x [v0, v1) that contains the image of a ball; false when
   // the ball is behind the camera or off the image.

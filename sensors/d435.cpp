@@ -29,7 +29,7 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
 
   for_rows(H, [&](int r0, int r1) {
     // Per-thread buffers, reused across rows and frames (no page faults per block).
-    thread_local std::vector<Ray> rays;
+    thread_local std::vector<double> uv;
     thread_local std::vector<Hit> hits;
     std::vector<Vec3> from, to;
     std::vector<std::size_t> who;
@@ -39,7 +39,7 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
       const bool plane = scene.background().has_value();
       if (!row_sees_bunch && !plane) continue;  // nothing can return light
       const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
-      rays_cast += trace_row(scene, cam, v, ua, ub, bu0, bu1, row_sees_bunch, rays, hits);
+      rays_cast += trace_row(scene, cam, v, ua, ub, bu0, bu1, row_sees_bunch, uv, hits);
       // Occlusion shadows: the point must be seen by the right imager and lit by
       // the projector; only segments that can cross the bunch are traced.
       from.clear();
@@ -66,8 +66,8 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
         const std::size_t idx = static_cast<std::size_t>(v) * W + u;
         const Hit& h = hits[u];
         if (!h.valid()) continue;
-        const Vec3 dir_cam = to_cam * rays[u].direction;
-        const double z = h.t * dir_cam.z();
+        const Vec3 p_cam = to_cam * (h.point - pose.translation());
+        const double z = p_cam.z();
         out.true_depth[idx] = static_cast<float>(z);
         out.label[idx] = static_cast<std::uint8_t>(h.part);
         out.berry[idx] = h.berry;
@@ -77,9 +77,9 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
         if (d <= 0 || d > p_.max_disparity) continue;  // nearer than MinZ, or no match
         const double zd = fB / d;
         if (zd > p_.max_range) continue;
-        out.xyz[idx] = (dir_cam * (zd / dir_cam.z())).cast<float>();
+        out.xyz[idx] = (p_cam * (zd / z)).cast<float>();
         out.normal[idx] = (to_cam * h.normal).cast<float>();
-        out.rgb[idx] = shade(h.colour, h.normal, rays[u].direction);
+        out.rgb[idx] = shade(h.colour, h.cos_incidence);
         out.valid[idx] = 1;
       }
     }

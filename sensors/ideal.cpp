@@ -20,14 +20,14 @@ OrganisedCloud capture_exact(const RayScene& scene, const Camera& cam) {
   std::atomic<std::uint64_t> rays_cast{0};
   for_rows(H, [&](int r0, int r1) {
     // Per-thread buffers, reused across rows and frames (no page faults per block).
-    thread_local std::vector<Ray> rays;
+    thread_local std::vector<double> uv;
     thread_local std::vector<Hit> hits;
     for (int v = r0; v < r1; ++v) {
       const bool row = bunch_visible && v >= bv0 && v < bv1;
       const bool plane = scene.background().has_value();
       if (!row && !plane) continue;  // nothing can return light
       const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
-      rays_cast += trace_row(scene, cam, v, ua, ub, bu0, bu1, row, rays, hits);
+      rays_cast += trace_row(scene, cam, v, ua, ub, bu0, bu1, row, uv, hits);
       for (int u = ua; u < ub; ++u) {
         const Hit& h = hits[u];
         if (!h.valid()) continue;
@@ -35,7 +35,7 @@ OrganisedCloud capture_exact(const RayScene& scene, const Camera& cam) {
         const Vec3 pc = to_cam * (h.point - pose.translation());
         out.xyz[idx] = pc.cast<float>();
         out.normal[idx] = (to_cam * h.normal).cast<float>();
-        out.rgb[idx] = shade(h.colour, h.normal, rays[u].direction);
+        out.rgb[idx] = shade(h.colour, h.cos_incidence);
         out.label[idx] = static_cast<std::uint8_t>(h.part);
         out.berry[idx] = h.berry;
         out.valid[idx] = 1;

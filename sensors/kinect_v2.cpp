@@ -20,32 +20,82 @@ double KinectV2::axial_sigma(double z, double theta) const {
   return std::max(0.0, mm) * 1e-3;
 }
 
+BunchPixels KinectV2::sampled_rect(const RayScene& scene, const Camera& cam) const {
+  BunchPixels bp = bunch_pixels(scene, cam);
+  const int margin = static_cast<int>(std::ceil(6 * p_.lateral_sd_px * p_.noise_scale)) + 1;  // jitter reaches in
+  bp.u0 = std::max(0, bp.u0 - margin);
+  bp.v0 = std::max(0, bp.v0 - margin);
+  bp.u1 = std::min(cam.K.width, bp.u1 + margin);
+  bp.v1 = std::min(cam.K.height, bp.v1 + margin);
+  return bp;
+}
+
+void KinectV2::row_samples(int v, int ua, int ub, int sub_a, int sub_b, int width, std::uint64_t seed,
+                           std::vector<double>& jitter, std::vector<double>& uv) const {
+  const int n = p_.supersampling;
+  const double lateral = p_.lateral_sd_px * p_.noise_scale;
+  jitter.assign(2 * static_cast<std::size_t>(width), 0.0);
+  // Lateral jitter (counters 3 k and 3 k + 1 of pixel k), in its own loop so the
+  // draws pipeline.
+  if (lateral > 0) {
+    for (int u = ua; u < ub; ++u) {
+      const std::uint64_t k = 3 * (static_cast<std::uint64_t>(v) * width + u);
+      jitter[2 * u] = lateral * hashed_normal(seed, k);
+      jitter[2 * u + 1] = lateral * hashed_normal(seed, k + 1);
+    }
+  }
+  uv.resize(2 * static_cast<std::size_t>(sub_b - sub_a) * n * n);
+  double offset[8];  // sample centres within a pixel, px (n <= 8)
+  for (int a = 0; a < n; ++a) offset[a] = (a + 0.5) / n;
+  double* q = uv.data();
+  for (int u = sub_a; u < sub_b; ++u) {
+    for (int a = 0; a < n; ++a) {
+      for (int b = 0; b < n; ++b) {
+        *q++ = u + offset[b] + jitter[2 * u];
+        *q++ = v + offset[a] + jitter[2 * u + 1];
+      }
+    }
+  }
+}
+
+std::vector<Ray> KinectV2::traced_rays(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const {
+  const Camera cam{intrinsics(), pose};
+  const BunchPixels bp = sampled_rect(scene, cam);
+  std::vector<Ray> rays;
+  if (!bp.visible) return rays;
+  const PixelRays ray_at = cam.pixel_rays();
+  std::vector<double> jitter, uv;
+  for (int v = bp.v0; v < bp.v1; ++v) {
+    row_samples(v, bp.u0, bp.u1, bp.u0, bp.u1, cam.K.width, seed, jitter, uv);
+    for (std::size_t i = 0; i < uv.size(); i += 2) rays.push_back(ray_at(uv[i], uv[i + 1]));
+  }
+  return rays;
+}
+
 OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const {
   const Camera cam{intrinsics(), pose};
   const int W = cam.K.width, H = cam.K.height, n = p_.supersampling;
-  const double lateral = p_.lateral_sd_px * p_.noise_scale;
   const double c = 299792458.0, k_phase = 4 * M_PI * p_.modulation_mhz * 1e6 / c;
   const double max_incidence = p_.max_incidence_deg * M_PI / 180;
-  const BunchPixels bp = bunch_pixels(scene, cam);
+  const BunchPixels bp = sampled_rect(scene, cam);
   const bool bunch_visible = bp.visible;
-  int bu0 = bp.u0, bv0 = bp.v0, bu1 = bp.u1, bv1 = bp.v1;
-  const int margin = static_cast<int>(std::ceil(6 * lateral)) + 1;  // jitter can reach in
-  bu0 = std::max(0, bu0 - margin);
-  bv0 = std::max(0, bv0 - margin);
-  bu1 = std::min(W, bu1 + margin);
-  bv1 = std::min(H, bv1 + margin);
+  const int bu0 = bp.u0, bv0 = bp.v0, bu1 = bp.u1, bv1 = bp.v1;
 
   OrganisedCloud out;
   out.resize(W, H);
-  std::vector<float> depth(out.size(), 0.0f);  // raw depth of every return, 0 for none
+  // Raw depth of every return; set exactly where out.label is (no fill needed).
+  raw_vector<float> depth(out.size());
   std::atomic<std::uint64_t> rays_cast{0};
   const Eigen::Matrix3d to_cam = pose.linear().transpose();
+  const PixelRays ray_at = cam.pixel_rays();
+  const Vec3 view_axis = pose.linear().col(2);  // world direction of the camera's z
+  const double cos_max_incidence = std::cos(max_incidence);
 
   for_rows(H, [&](int r0, int r1) {
     // Per-thread buffers, reused across rows and frames (no page faults per block).
-    thread_local std::vector<Ray> rays;
+    thread_local std::vector<double> uv;  // sample points (u, v), pixels
     thread_local std::vector<Hit> hits;
-    std::vector<double> jitter;  // per pixel: du, dv, axial normal draw
+    std::vector<double> jitter;  // per pixel: lateral du, dv (px)
     for (int v = r0; v < r1; ++v) {
       // Pixels that can see the bunch go through Embree; with a background plane the
       // others are intersected analytically; without one they cannot return anything.
@@ -53,58 +103,41 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
       const bool plane = scene.background().has_value();
       if (!row_sees && !plane) continue;
       const int ua = plane ? 0 : bu0, ub = plane ? W : bu1;
-      rays.clear();
-      jitter.assign(3 * static_cast<std::size_t>(W), 0.0);
       // Inside the bunch's image rectangle a pixel's footprint is sampled by n x n rays;
       // outside it only the plane can be seen, where the blend of returns from one
       // plane is the centre ray's depth (to second order), so one ray suffices.
       const int sub_a = row_sees ? bu0 : ub, sub_b = row_sees ? bu1 : ub;
-      for (int u = ua; u < ub; ++u) {
-        const std::uint64_t k = 3 * (static_cast<std::uint64_t>(v) * W + u);
-        const double du = lateral * hashed_normal(seed, k), dv = lateral * hashed_normal(seed, k + 1);
-        jitter[3 * u] = du;
-        jitter[3 * u + 1] = dv;
-        jitter[3 * u + 2] = hashed_normal(seed, k + 2);
-        if (u >= sub_a && u < sub_b) {
-          for (int a = 0; a < n; ++a) {
-            for (int b = 0; b < n; ++b) rays.push_back(cam.ray(u + (b + 0.5) / n + du, v + (a + 0.5) / n + dv));
-          }
-        }
-      }
+      row_samples(v, ua, ub, sub_a, sub_b, W, seed, jitter, uv);
       const std::size_t nn = static_cast<std::size_t>(n) * n;
-      hits.resize(rays.size());
-      if (!rays.empty()) {
-        scene.intersect(rays.data(), rays.size(), hits.data());
-        rays_cast += rays.size();
+      const std::size_t traced = uv.size() / 2;
+      hits.resize(traced);
+      if (traced > 0) {
+        scene.intersect_image_points(ray_at, uv.data(), traced, hits.data());
+        rays_cast += traced;
       }
       for (int u = ua; u < ub; ++u) {
         const std::size_t idx = static_cast<std::size_t>(v) * W + u;
         const bool sampled = u >= sub_a && u < sub_b;
         Hit plane_only;
-        Ray plane_ray;
         const Hit* sub;
-        const Ray* sray;
         int count = n * n;
         if (sampled) {
           sub = &hits[static_cast<std::size_t>(u - sub_a) * nn];
-          sray = &rays[static_cast<std::size_t>(u - sub_a) * nn];
         } else {
-          plane_ray = cam.ray(u + 0.5 + jitter[3 * u], v + 0.5 + jitter[3 * u + 1]);
-          plane_only = scene.background_hit(plane_ray);
+          plane_only = scene.background_hit(ray_at(u + 0.5 + jitter[2 * u], v + 0.5 + jitter[2 * u + 1]));
           sub = &plane_only;
-          sray = &plane_ray;
           count = 1;
         }
         // ToF pixel: sum of the returns' phasors, amplitude albedo cos(theta) / r^2.
         int dominant = -1, returns = 0;
         double wmax = 0;
-        double w[64] = {};  // n <= 8
+        double w[64];  // n <= 8
         for (int s = 0; s < count; ++s) {
+          w[s] = 0;
           if (!sub[s].valid()) continue;
           ++returns;
-          const double cos_t = std::max(0.0, -sub[s].normal.dot(sray[s].direction));
           const double albedo = sub[s].part == Part::Background && scene.background() ? scene.background()->albedo : 0.6;
-          w[s] = albedo * cos_t / (sub[s].t * sub[s].t);
+          w[s] = albedo * sub[s].cos_incidence / (sub[s].t * sub[s].t);
           if (w[s] > wmax) {
             wmax = w[s];
             dominant = s;
@@ -114,27 +147,46 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
         const Hit& dom = sub[dominant];
         double radial = dom.t;
         if (returns > 1) {
-          std::complex<double> sum = 0;
+          // Phase offsets of the returns from the dominant one. Where they are all
+          // below 0.01 rad (one surface across the footprint), arg(sum w e^{i phi})
+          // equals the weighted mean phase to O(phi^3), under 1e-7 m of depth here;
+          // only mixed pixels at discontinuities need the full phasor sum.
+          double phi_max = 0, wsum = 0, wphi = 0;
           for (int s = 0; s < count; ++s) {
-            if (w[s] > 0) sum += w[s] * std::polar(1.0, k_phase * (sub[s].t - dom.t));
+            if (w[s] <= 0) continue;
+            const double phi = k_phase * (sub[s].t - dom.t);
+            phi_max = std::max(phi_max, std::abs(phi));
+            wsum += w[s];
+            wphi += w[s] * phi;
           }
-          radial += std::arg(sum) / k_phase;
+          if (phi_max < 0.01) {
+            radial += wphi / wsum / k_phase;
+          } else {
+            std::complex<double> sum = 0;
+            for (int s = 0; s < count; ++s) {
+              if (w[s] > 0) sum += w[s] * std::polar(1.0, k_phase * (sub[s].t - dom.t));
+            }
+            radial += std::arg(sum) / k_phase;
+          }
         }
-        // The pixel's footprint centre (lateral jitter included).
-        const Ray centre = cam.ray(u + 0.5 + jitter[3 * u], v + 0.5 + jitter[3 * u + 1]);
-        const Vec3 dir_cam = to_cam * centre.direction;
-        const double z = radial * dir_cam.z();
-        const double theta = std::acos(std::clamp(-dom.normal.dot(sray[dominant].direction), -1.0, 1.0));
-        out.true_depth[idx] = static_cast<float>((to_cam * (dom.point - pose.translation())).z());
+        // The pixel's footprint centre (lateral jitter included), in the camera frame:
+        // (x, y, 1) scaled so that z is the depth.
+        const double xc = (u + 0.5 + jitter[2 * u] - cam.K.cx) / cam.K.fx;
+        const double yc = (v + 0.5 + jitter[2 * u + 1] - cam.K.cy) / cam.K.fy;
+        const double z = radial / std::sqrt(xc * xc + yc * yc + 1);
+        const double cos_theta = std::min(1.0, dom.cos_incidence);
+        out.true_depth[idx] = static_cast<float>(view_axis.dot(dom.point - pose.translation()));
         out.label[idx] = static_cast<std::uint8_t>(dom.part);
         out.berry[idx] = dom.berry;
         depth[idx] = static_cast<float>(z);  // raw depth map: the edge filter sees every return
-        if (z < p_.min_range || z > p_.max_range || theta > max_incidence) continue;
-        const double zn = z + p_.noise_scale * axial_sigma(z, theta) * jitter[3 * u + 2];
-        const Vec3 pc = dir_cam * (zn / dir_cam.z());
+        if (z < p_.min_range || z > p_.max_range || cos_theta < cos_max_incidence) continue;
+        // The axial draw is made only for returns (counter 3 k + 2 of the pixel).
+        const std::uint64_t k3 = 3 * (static_cast<std::uint64_t>(v) * W + u);
+        const double zn = z + p_.noise_scale * axial_sigma(z, std::acos(cos_theta)) * hashed_normal(seed, k3 + 2);
+        const Vec3 pc(xc * zn, yc * zn, zn);
         out.xyz[idx] = pc.cast<float>();
         out.normal[idx] = (to_cam * dom.normal).cast<float>();
-        out.rgb[idx] = shade(dom.colour, dom.normal, sray[dominant].direction);
+        out.rgb[idx] = shade(dom.colour, dom.cos_incidence);
         out.valid[idx] = 1;
         depth[idx] = static_cast<float>(zn);
       }
@@ -143,7 +195,8 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
   out.rays_cast = rays_cast;
 
   if (p_.edge_filter) {
-    std::vector<std::uint8_t> keep = out.valid;
+    std::vector<std::size_t> drop;  // decided on the unfiltered map, applied after
+    const auto none = static_cast<std::uint8_t>(Part::None);
     // Only pixels that returned can be dropped: without a background that is the
     // bunch's image rectangle.
     const bool plane = scene.background().has_value();
@@ -154,20 +207,22 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         if (!out.valid[i]) continue;
         const double tol = std::max(p_.edge_abs, p_.edge_rel * depth[i]);
-        for (int dv = -1; dv <= 1 && keep[i]; ++dv) {
+        bool edge = false;
+        for (int dv = -1; dv <= 1 && !edge; ++dv) {
           for (int du = -1; du <= 1; ++du) {
             const int uu = u + du, vv = v + dv;
             if (uu < 0 || vv < 0 || uu >= W || vv >= H || (du == 0 && dv == 0)) continue;
             const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
-            if (depth[j] > 0 && std::abs(depth[j] - depth[i]) > tol) {
-              keep[i] = 0;
+            if (out.label[j] != none && std::abs(depth[j] - depth[i]) > tol) {
+              edge = true;
               break;
             }
           }
         }
+        if (edge) drop.push_back(i);
       }
     }
-    out.valid = std::move(keep);
+    for (const std::size_t i : drop) out.valid[i] = 0;
   }
   return out;
 }

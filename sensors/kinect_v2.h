@@ -43,9 +43,19 @@ class KinectV2 : public Sensor {
   nlohmann::ordered_json describe() const override;
   // The model's axial noise sd, m, at depth z (m) and incidence theta (rad), before noise_scale.
   double axial_sigma(double z, double theta) const;
+  // Every ray a capture without background traces through Embree, in order: the
+  // benchmark's raw Embree loop casts exactly these.
+  std::vector<Ray> traced_rays(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const;
   const KinectV2Params& params() const { return p_; }
 
  private:
+  // The pixels whose footprints go through Embree: the bunch's image rectangle grown
+  // by the reach of the lateral jitter.
+  BunchPixels sampled_rect(const RayScene& scene, const Camera& cam) const;
+  // Row v: lateral jitter of pixels [ua, ub) (jitter: 2 per pixel, px) and the n x n
+  // footprint sample points of pixels [sub_a, sub_b) (uv: 2 per sample, px).
+  void row_samples(int v, int ua, int ub, int sub_a, int sub_b, int width, std::uint64_t seed,
+                   std::vector<double>& jitter, std::vector<double>& uv) const;
   KinectV2Params p_;
 };
 

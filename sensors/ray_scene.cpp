@@ -227,6 +227,7 @@ Hit RayScene::plane_hit(const Ray& ray) const {
   h.t = t;
   h.point = ray.origin + t * ray.direction;
   h.normal = denom < 0 ? background_->normal : Vec3(-background_->normal);
+  h.cos_incidence = std::abs(denom);
   h.part = Part::Background;
   h.colour = background_->colour;
   return h;
@@ -244,6 +245,7 @@ void RayScene::refine(const Ray& ray, unsigned geom, unsigned prim, double t_flo
     h.t = t;
     h.point = ray.origin + t * ray.direction;
     h.normal = (h.point - b.centre) / b.radius;
+    h.cos_incidence = std::max(0.0, -h.normal.dot(ray.direction));
     h.part = Part::Berry;
     h.berry = static_cast<int>(prim);
     h.primitive = static_cast<int>(prim);
@@ -257,6 +259,7 @@ void RayScene::refine(const Ray& ray, unsigned geom, unsigned prim, double t_flo
   h.t = t;
   h.point = ray.origin + t * ray.direction;
   h.normal = n;
+  h.cos_incidence = std::max(0.0, -n.dot(ray.direction));
   h.part = s.part;
   h.berry = s.berry;
   h.primitive = static_cast<int>(prim);
@@ -280,9 +283,65 @@ void RayScene::intersect(const Ray* rays, std::size_t count, Hit* hits, bool bun
     for (std::size_t k = 0; k < n; ++k) {
       const Ray& r = rays[base + k];
       Hit& h = hits[base + k];
-      h = Hit{};
+      // A miss sets only what says so: point, normal and colour are read only on hits.
+      h.t = -1;
+      h.part = Part::None;
+      h.berry = h.primitive = -1;
       if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) refine(r, rh.hit.geomID[k], rh.hit.primID[k], rh.ray.tfar[k], h);
       if (!bunch_only && background_) {
+        const Hit p = plane_hit(r);
+        if (p.valid() && (!h.valid() || p.t < h.t)) h = p;
+      }
+    }
+  }
+  if (!state_->last_error.empty()) throw InputError("ray scene: " + state_->last_error);
+}
+
+void RayScene::intersect_image_points(const PixelRays& camera, const double* uv, std::size_t count, Hit* hits,
+                                      bool bunch_only) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  const bool plane = !bunch_only && background_.has_value();
+  const float ox = static_cast<float>(camera.origin.x()), oy = static_cast<float>(camera.origin.y()),
+              oz = static_cast<float>(camera.origin.z());
+  for (std::size_t base = 0; base < count; base += 16) {
+    const std::size_t n = std::min<std::size_t>(16, count - base);
+    for (std::size_t k = 0; k < 16; ++k) {
+      const std::size_t i = base + std::min(k, n - 1);
+      const Vec3 d = uv[2 * i] * camera.c0 + uv[2 * i + 1] * camera.c1 + camera.c2;
+      valid[k] = k < n ? -1 : 0;
+      rh.ray.org_x[k] = ox;
+      rh.ray.org_y[k] = oy;
+      rh.ray.org_z[k] = oz;
+      rh.ray.dir_x[k] = static_cast<float>(d.x());
+      rh.ray.dir_y[k] = static_cast<float>(d.y());
+      rh.ray.dir_z[k] = static_cast<float>(d.z());
+      rh.ray.tnear[k] = 0;
+      rh.ray.tfar[k] = INFINITY;
+      rh.ray.time[k] = 0;
+      rh.ray.mask[k] = 0xFFFFFFFFu;
+      rh.ray.flags[k] = 0;
+      rh.ray.id[k] = static_cast<unsigned>(k);
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, state_->scene, &context, &rh);
+    for (std::size_t k = 0; k < n; ++k) {
+      Hit& h = hits[base + k];
+      h.t = -1;
+      h.part = Part::None;
+      h.berry = h.primitive = -1;
+      const bool bunch_hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+      if (!bunch_hit && !plane) continue;
+      const std::size_t i = base + k;
+      const Vec3 d = uv[2 * i] * camera.c0 + uv[2 * i + 1] * camera.c1 + camera.c2;
+      const double len = std::sqrt(d.squaredNorm());
+      const Ray r{camera.origin, d * (1.0 / len)};
+      // Embree's t is in units of |d|.
+      if (bunch_hit) refine(r, rh.hit.geomID[k], rh.hit.primID[k], rh.ray.tfar[k] * len, h);
+      if (plane) {
         const Hit p = plane_hit(r);
         if (p.valid() && (!h.valid() || p.t < h.t)) h = p;
       }

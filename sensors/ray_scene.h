@@ -9,6 +9,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,12 +33,24 @@ struct Hit {
   int berry = -1;  // berry id for berries and their pedicels, else -1
   int primitive = -1;  // berry or stem index; -1 for the plane
   Rgb colour;
+  double cos_incidence = 0;  // cosine between the normal and the reversed ray, [0, 1]
   bool valid() const { return t >= 0; }
 };
 
 struct Ray {
   Vec3 origin;
   Vec3 direction;  // unit
+};
+
+// World rays through image points with the per-camera constants folded in once:
+// d = u c0 + v c1 + c2 with c0 = R e_x / fx, c1 = R e_y / fy, c2 = R e_z - cx c0 - cy c1,
+// then one square root and one division per ray (the sensors' inner loops).
+struct PixelRays {
+  Vec3 origin, c0, c1, c2;
+  Ray operator()(double u, double v) const {
+    const Vec3 d = u * c0 + v * c1 + c2;
+    return {origin, d * (1.0 / std::sqrt(d.squaredNorm()))};
+  }
 };
 
 class RayScene {
@@ -51,6 +64,12 @@ class RayScene {
   void intersect(const std::vector<Ray>& rays, std::vector<Hit>& hits, bool bunch_only = false) const;
   void intersect(const Ray* rays, std::size_t count, Hit* hits, bool bunch_only = false) const;
   Hit intersect(const Ray& ray, bool bunch_only = false) const;
+  // The same for the camera rays through image points uv (count x 2, pixels): packets
+  // are filled straight from the points with unnormalised float directions (Embree
+  // needs no unit vector) and the unit double ray is formed only where it is needed
+  // (hits, and every ray when a background plane is set). The sensors' hot path.
+  void intersect_image_points(const PixelRays& camera, const double* uv, std::size_t count, Hit* hits,
+                              bool bunch_only = false) const;
   // Whether anything (bunch or plane) blocks the segment from `from` to `to`,
   // excluding a tolerance at both ends. One packet per 16 queries.
   void occluded(const std::vector<Vec3>& from, const std::vector<Vec3>& to, std::vector<char>& blocked) const;

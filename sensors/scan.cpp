@@ -94,8 +94,8 @@ std::string pcd_bytes(const OrganisedCloud& c) {
     const float nan = NAN;
     const bool ok = c.valid[i];
     for (int k = 0; k < 3; ++k) put<float>(s, ok ? c.xyz[i][k] : nan);
-    const std::uint32_t rgb = (std::uint32_t(c.rgb[i][0]) << 16) | (std::uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2];
-    put<std::uint32_t>(s, ok ? rgb : 0);
+    const std::uint32_t rgb = ok ? (std::uint32_t(c.rgb[i][0]) << 16) | (std::uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2] : 0;
+    put<std::uint32_t>(s, rgb);
     for (int k = 0; k < 3; ++k) put<float>(s, ok ? c.normal[i][k] : nan);
     put<std::uint32_t>(s, ok ? c.label[i] : static_cast<std::uint32_t>(Part::None));
     put<std::int32_t>(s, ok ? c.berry[i] : -1);

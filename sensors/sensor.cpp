@@ -32,10 +32,7 @@ std::unique_ptr<Sensor> make_sensor(const ConfigNode& node) {
 }
 
 std::array<std::uint8_t, 3> shade(const Rgb& c, const Vec3& normal, const Vec3& ray_dir) {
-  // Light at the camera: ambient plus Lambert.
-  const double k = 0.35 + 0.65 * std::max(0.0, -normal.dot(ray_dir));
-  auto byte = [&](float x) { return static_cast<std::uint8_t>(std::lround(std::clamp(x * k, 0.0, 1.0) * 255)); };
-  return {byte(c.r), byte(c.g), byte(c.b)};
+  return shade(c, -normal.dot(ray_dir));
 }
 
 BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam) {
@@ -45,15 +42,19 @@ BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam) {
 }
 
 std::size_t trace_row(const RayScene& scene, const Camera& cam, int v, int ua, int ub, int bu0, int bu1,
-                      bool sees_bunch, std::vector<Ray>& rays, std::vector<Hit>& hits) {
-  rays.resize(cam.K.width);
+                      bool sees_bunch, std::vector<double>& uv, std::vector<Hit>& hits) {
   hits.resize(cam.K.width);
-  for (int u = ua; u < ub; ++u) rays[u] = cam.ray(u + 0.5, v + 0.5);
+  const PixelRays ray_at = cam.pixel_rays();
   for (int u = ua; u < ub; ++u) {
-    if (!(sees_bunch && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(rays[u]);
+    if (!(sees_bunch && u >= bu0 && u < bu1)) hits[u] = scene.background_hit(ray_at(u + 0.5, v + 0.5));
   }
   if (!sees_bunch) return 0;
-  scene.intersect(rays.data() + bu0, bu1 - bu0, hits.data() + bu0);
+  uv.resize(2 * static_cast<std::size_t>(bu1 - bu0));
+  for (int u = bu0; u < bu1; ++u) {
+    uv[2 * (u - bu0)] = u + 0.5;
+    uv[2 * (u - bu0) + 1] = v + 0.5;
+  }
+  scene.intersect_image_points(ray_at, uv.data(), bu1 - bu0, hits.data() + bu0);
   return static_cast<std::size_t>(bu1 - bu0);
 }
 
@@ -62,33 +63,6 @@ void for_rows(int height, const std::function<void(int, int)>& body) {
   tbb::parallel_for(0, (height + block - 1) / block, [&](int b) {
     body(b * block, std::min(height, (b + 1) * block));
   });
-}
-
-void OrganisedCloud::resize(int w, int h) {
-  width = w;
-  height = h;
-  const std::size_t n = size();
-  valid.assign(n, 0);
-  label.assign(n, static_cast<std::uint8_t>(Part::None));
-  berry.resize(n);
-  xyz.resize(n);
-  normal.resize(n);
-  rgb.resize(n);
-  true_depth.resize(n);
-}
-
-std::size_t OrganisedCloud::valid_count() const {
-  std::size_t n = 0;
-  for (auto v : valid) n += v;
-  return n;
-}
-
-std::vector<Vec3> OrganisedCloud::bunch_points() const {
-  std::vector<Vec3> pts;
-  for (std::size_t i = 0; i < size(); ++i) {
-    if (valid[i] && label[i] <= static_cast<std::uint8_t>(Part::Peduncle)) pts.push_back(xyz[i].cast<double>());
-  }
-  return pts;
 }
 
 }  // namespace grapebench

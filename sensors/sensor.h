@@ -45,6 +45,13 @@ std::unique_ptr<Sensor> make_sensor(const ConfigNode& node);
 
 // Helpers shared by the models.
 std::array<std::uint8_t, 3> shade(const Rgb& colour, const Vec3& normal, const Vec3& ray_dir);
+// The same from the cosine of incidence (Hit::cos_incidence). Inline: once per point.
+inline std::array<std::uint8_t, 3> shade(const Rgb& colour, double cos_incidence) {
+  // Light at the camera: ambient plus Lambert; rounded half up by truncation.
+  const float k = 0.35f + 0.65f * static_cast<float>(std::max(0.0, cos_incidence));
+  auto byte = [k](float x) { return static_cast<std::uint8_t>(std::clamp(x * k, 0.0f, 1.0f) * 255.0f + 0.5f); };
+  return {byte(colour.r), byte(colour.g), byte(colour.b)};
+}
 inline double point_segment_distance_sq(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double l2 = ab.squaredNorm();
@@ -60,9 +67,10 @@ struct BunchPixels {
 BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam);
 
 // One ray per pixel centre of row v over pixels [ua, ub): Embree for [bu0, bu1) when
-// `sees_bunch`, the analytic background elsewhere. Returns the rays traced by Embree.
+// `sees_bunch`, the analytic background elsewhere; hits[u] for pixel u (`uv` is
+// scratch). Returns the rays traced by Embree.
 std::size_t trace_row(const RayScene& scene, const Camera& cam, int v, int ua, int ub, int bu0, int bu1,
-                      bool sees_bunch, std::vector<Ray>& rays, std::vector<Hit>& hits);
+                      bool sees_bunch, std::vector<double>& uv, std::vector<Hit>& hits);
 // Parallel loop over image rows in fixed blocks (deterministic result).
 void for_rows(int height, const std::function<void(int v0, int v1)>& body);
 

@@ -6,6 +6,7 @@
 #include "sensors/rig.h"
 #include "sensors/scan.h"
 #include "synth/generate.h"
+#include "synth/rng.h"
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -44,8 +45,8 @@ std::unique_ptr<Rig> rig(const std::string& type) {
   return make_stereo_stations(StereoStationsParams{});
 }
 
-// The rays a model traces through Embree for one view: its pixels inside the bunch's
-// image bounds, n x n per pixel.
+// The rays an ideal or D435 model traces through Embree for one view: its pixel
+// centres inside the bunch's image bounds, n x n per pixel.
 std::vector<Ray> traced_rays(const Sensor& s, const Eigen::Isometry3d& pose, int n) {
   const Camera cam{s.intrinsics(), pose};
   int u0, v0, u1, v1;
@@ -75,21 +76,31 @@ void BM_Sensor(benchmark::State& state, std::string sensor_type, std::string rig
 void BM_RawEmbree(benchmark::State& state, std::string sensor_type, std::string rig_type) {
   const auto s = sensor(sensor_type);
   const auto r = rig(rig_type);
-  const int n = sensor_type == "kinect_v2" ? KinectV2Params{}.supersampling : 1;
   std::vector<std::vector<Ray>> views;
-  // The D435 also traces, for each hit, the segments to its right imager and projector.
+  // The D435 also traces, for each hit, the segments to its right imager and projector
+  // that can cross the bunch (the others cannot be blocked and are not traced).
   std::vector<std::vector<Vec3>> from, to;
-  for (const auto& v : r->views(scene().bounds_centre(), scene().bounds_radius(), {})) {
-    views.push_back(traced_rays(*s, v.pose, n));
+  const auto poses = r->views(scene().bounds_centre(), scene().bounds_radius(), {});
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    const auto& v = poses[k];
+    // The Kinect's rays, jitter and margin included, exactly as its capture traces
+    // them (seed as in scan_bunch's view k).
+    if (sensor_type == "kinect_v2") {
+      views.push_back(static_cast<const KinectV2&>(*s).traced_rays(scene(), v.pose, derive_seed(5, k)));
+    } else {
+      views.push_back(traced_rays(*s, v.pose, 1));
+    }
     from.emplace_back();
     to.emplace_back();
     if (sensor_type != "d435") continue;
     std::vector<Hit> hits;
     scene().intersect(views.back(), hits);
     const D435Params dp;
+    const double br2 = scene().bounds_radius() * scene().bounds_radius();
     for (const auto& h : hits) {
       if (!h.valid()) continue;
-      for (const Vec3& o : {Vec3(v.pose * Vec3(dp.baseline, 0, 0)), Vec3(v.pose * Vec3(dp.projector_x, 0, 0))}) {
+      for (const Vec3& o : {Vec3(v.pose * Vec3(dp.baseline, 0, 0)), Vec3(v.pose * Vec3(dp.projector_x, dp.projector_y, 0))}) {
+        if (point_segment_distance_sq(scene().bounds_centre(), o, h.point) > br2) continue;
         from.back().push_back(o);
         to.back().push_back(h.point);
       }
