@@ -40,8 +40,8 @@ void KinectV2::row_samples(int v, int ua, int ub, int sub_a, int sub_b, int widt
   if (lateral > 0) {
     for (int u = ua; u < ub; ++u) {
       const std::uint64_t k = 3 * (static_cast<std::uint64_t>(v) * width + u);
-      jitter[2 * u] = lateral * hashed_normal(seed, k);
-      jitter[2 * u + 1] = lateral * hashed_normal(seed, k + 1);
+      jitter[2 * u] = lateral * hashed_normal_tabulated(seed, k);
+      jitter[2 * u + 1] = lateral * hashed_normal_tabulated(seed, k + 1);
     }
   }
   uv.resize(2 * static_cast<std::size_t>(sub_b - sub_a) * n * n);

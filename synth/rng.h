@@ -3,6 +3,7 @@
 // standard library (std::normal_distribution is implementation-defined).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -52,6 +53,30 @@ inline double inverse_normal_cdf(double p) {
 }
 inline double hashed_normal(std::uint64_t seed, std::uint64_t counter) {
   return inverse_normal_cdf(hashed_uniform(seed, counter));
+}
+
+// The same draw through a table of the inverse CDF (8192 cells, linear interpolation)
+// in the central 95 %, the formula in the tails: cheaper, for per-pixel noise
+// drawn for every pixel of a frame. The interpolation error is below 2e-6 standard
+// deviations (tests/synth/rng_test.cpp).
+struct NormalTable {
+  static constexpr int kCells = 8192;
+  static constexpr double kLo = 0.02425, kHi = 1 - 0.02425;
+  double value[kCells + 1];
+  NormalTable() {
+    for (int i = 0; i <= kCells; ++i) value[i] = inverse_normal_cdf(kLo + (kHi - kLo) * i / kCells);
+  }
+  double operator()(double p) const {
+    if (p < kLo || p > kHi) return inverse_normal_cdf(p);
+    const double x = (p - kLo) * (kCells / (kHi - kLo));
+    const int i = std::min(static_cast<int>(x), kCells - 1);
+    const double f = x - i;
+    return value[i] + f * (value[i + 1] - value[i]);
+  }
+};
+inline double hashed_normal_tabulated(std::uint64_t seed, std::uint64_t counter) {
+  static const NormalTable table;
+  return table(hashed_uniform(seed, counter));
 }
 
 class Rng {
