@@ -18,9 +18,13 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
   const int bu0 = bp.u0, bv0 = bp.v0, bu1 = bp.u1, bv1 = bp.v1;
   const Vec3 bc = scene.bounds_centre();
   const double br = scene.bounds_radius();
-  // Whether a segment can pass through the bunch at all (else nothing can block it).
-  auto may_block = [&](const Vec3& a, const Vec3& b) {
-    return scene.has_bunch() && point_segment_distance_sq(bc, a, b) <= br * br;
+  // Whether a segment from a sensor to a hit can pass through the bunch at all (else
+  // nothing can block it). A bunch hit lies inside the bunch's bounding ball, so its
+  // segments always can; only background hits need the distance test.
+  const bool has_bunch = scene.has_bunch();
+  auto may_block = [&](const Vec3& a, const Hit& h) {
+    if (!has_bunch) return false;
+    return h.part != Part::Background || point_segment_distance_sq(bc, a, h.point) <= br * br;
   };
   const Eigen::Matrix3d to_cam = pose.linear().transpose();
   OrganisedCloud out;
@@ -31,9 +35,9 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
     // Per-thread buffers, reused across rows and frames (no page faults per block).
     thread_local std::vector<double> uv;
     thread_local std::vector<Hit> hits;
-    std::vector<Vec3> from, to;
-    std::vector<std::size_t> who;
-    std::vector<char> blocked, shadow;
+    thread_local std::vector<Vec3> from, to;
+    thread_local std::vector<std::size_t> who;
+    thread_local std::vector<char> blocked, shadow;
     for (int v = r0; v < r1; ++v) {
       const bool row_sees_bunch = bunch_visible && v >= bv0 && v < bv1;
       const bool plane = scene.background().has_value();
@@ -47,12 +51,12 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
       who.clear();
       for (int u = ua; u < ub; ++u) {
         if (!hits[u].valid()) continue;
-        if (may_block(right, hits[u].point)) {
+        if (may_block(right, hits[u])) {
           from.push_back(right);
           to.push_back(hits[u].point);
           who.push_back(u);
         }
-        if (p_.require_projector && may_block(projector, hits[u].point)) {
+        if (p_.require_projector && may_block(projector, hits[u])) {
           from.push_back(projector);
           to.push_back(hits[u].point);
           who.push_back(u);
@@ -72,7 +76,7 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
         out.label[idx] = static_cast<std::uint8_t>(h.part);
         out.berry[idx] = h.berry;
         if (shadow[u]) continue;
-        double d = fB / z + p_.noise_scale * p_.subpixel_sd * hashed_normal(seed, idx);
+        double d = fB / z + p_.noise_scale * p_.subpixel_sd * hashed_normal_tabulated(seed, idx);
         if (p_.disparity_step > 0) d = std::round(d / p_.disparity_step) * p_.disparity_step;
         if (d <= 0 || d > p_.max_disparity) continue;  // nearer than MinZ, or no match
         const double zd = fB / d;
