@@ -223,6 +223,34 @@ FilteredCloud region_growing_segmentation(const PointCloud& cloud, const RegionG
   return subset(cloud, std::move(rest), notes.str());
 }
 
+std::vector<std::vector<Eigen::Index>> euclidean_clusters(const PointCloud& cloud, const EuclideanClusterParams& p) {
+  const char* who = "euclidean_clusters";
+  require_points(cloud, 0, who);
+  check_range(p.tolerance, 1e-4, 1, who, "tolerance", " m");
+  check_range(p.min_points, 1, 1e8, who, "min_points");
+  std::vector<std::vector<Eigen::Index>> out;
+  if (cloud.rows() == 0) return out;
+  Eigen::RowVector3d centre;
+  const auto in = to_pcl(cloud, centre);
+  pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
+  ec.setClusterTolerance(p.tolerance);
+  ec.setMinClusterSize(p.min_points);
+  ec.setMaxClusterSize(std::numeric_limits<int>::max());
+  ec.setSearchMethod(pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+  ec.setInputCloud(in);
+  std::vector<pcl::PointIndices> clusters;
+  ec.extract(clusters);
+  for (const auto& c : clusters) {
+    std::vector<Eigen::Index> rows(c.indices.begin(), c.indices.end());
+    std::sort(rows.begin(), rows.end());
+    out.push_back(std::move(rows));
+  }
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    return a.size() != b.size() ? a.size() > b.size() : a.front() < b.front();
+  });
+  return out;
+}
+
 FilteredCloud lccp_stalk_removal(const PointCloud& cloud, const LccpStalkParams& p) {
   const char* who = "lccp_stalk_removal";
   require_points(cloud, 4, who);

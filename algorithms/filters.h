@@ -25,6 +25,18 @@ struct PassThroughParams {
 };
 FilteredCloud pass_through(const PointCloud& cloud, const PassThroughParams& params);
 
+// Euclidean cluster extraction (PCL EuclideanClusterExtraction): groups whose points
+// are within `tolerance` of another point of the group; seed 003 Sect. II-B2 uses
+// "a minimum Euclidean distance of 0.01 m between points from different clusters"
+// and drops clusters of fewer than 300 points.
+struct EuclideanClusterParams {
+  double tolerance = 0.01;  // m, [1e-4, 1]; seed 003: 0.01 m
+  int min_points = 300;     // points, [1, 1e8]; seed 003: 300
+};
+// Row indices of each cluster, ascending; clusters largest first (ties: lowest first
+// index first).
+std::vector<std::vector<Eigen::Index>> euclidean_clusters(const PointCloud& cloud, const EuclideanClusterParams& params);
+
 // Statistical outlier removal (seed 002 Sect. 2.1, PCL StatisticalOutlierRemoval): a
 // point whose mean distance to its n nearest neighbours lies more than delta standard
 // deviations above the cloud's mean of that distance is dropped. Seed 002 names n and

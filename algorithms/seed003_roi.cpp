@@ -1,0 +1,150 @@
+#include "algorithms/seed003_roi.h"
+
+#include "synth/config.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace grapebench {
+
+namespace {
+
+void check(const Seed003RoiParams& p) {
+  auto range = [](double v, double lo, double hi, const char* name) {
+    if (!(v >= lo && v <= hi)) {
+      std::ostringstream s;
+      s << "seed003 roi: " << name << " = " << v << " outside [" << lo << ", " << hi << "]";
+      throw InputError(s.str());
+    }
+  };
+  range(p.detection_clusters, 1, 64, "detection_clusters");
+  range(p.separation_clusters, 1, 64, "separation_clusters");
+  range(p.n_min, -1, 1, "n_min");
+  range(p.d_min, -1, 1, "d_min");
+  range(p.d_max, -1, 1, "d_max");
+  range(p.i_min, -1, 1, "i_min");
+  range(p.roi_radius, 0.01, 2, "roi_radius");
+}
+
+bool grape_colour(const Vec3& centroid, const Seed003RoiParams& p) {
+  if (p.rule == GrapeColourRule::Red) return centroid.x() > p.n_min && centroid.y() > p.d_min;
+  return centroid.y() < p.d_max && centroid.z() > p.i_min;
+}
+
+PointCloud rows_of(const PointCloud& cloud, const Region& rows) {
+  PointCloud out(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t i = 0; i < rows.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = cloud.row(rows[i]);
+  return out;
+}
+
+// NDI features of the given rows.
+std::vector<Vec3> features_of(const std::vector<Rgb8>& rgb, const Region& rows) {
+  std::vector<Vec3> f(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) f[i] = ndi(rgb[static_cast<std::size_t>(rows[i])]);
+  return f;
+}
+
+// The rows of `rows` whose k-means cluster passes the colour rule; appends to notes.
+Region grape_coloured(const std::vector<Rgb8>& rgb, const Region& rows, const Seed003RoiParams& p,
+                      std::uint64_t seed, std::ostringstream& notes) {
+  Region out;
+  if (rows.size() < static_cast<std::size_t>(p.separation_clusters)) return out;
+  const KMeansResult km = kmeans_pp(features_of(rgb, rows), {p.separation_clusters, 100, seed});
+  std::vector<char> grape(km.centroids.size());
+  int chosen = 0;
+  for (std::size_t c = 0; c < km.centroids.size(); ++c) {
+    grape[c] = km.sizes[c] > 0 && grape_colour(km.centroids[c], p);
+    chosen += grape[c];
+  }
+  notes << chosen << " of " << km.centroids.size() << " colour clusters grape-coloured";
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (grape[static_cast<std::size_t>(km.label[i])]) out.push_back(rows[i]);
+  }
+  return out;
+}
+
+void check_inputs(const PointCloud& cloud, const std::vector<Rgb8>& rgb, const char* who) {
+  require_points(cloud, 0, who);
+  if (static_cast<std::size_t>(cloud.rows()) != rgb.size()) {
+    throw InputError(std::string(who) + ": " + std::to_string(cloud.rows()) + " points but " +
+                     std::to_string(rgb.size()) + " colours");
+  }
+}
+
+}  // namespace
+
+Seed003Detection detect_grape_regions(const PointCloud& cloud, const std::vector<Rgb8>& rgb,
+                                      const Seed003RoiParams& p) {
+  check(p);
+  check_inputs(cloud, rgb, "detect_grape_regions");
+  Seed003Detection d;
+  std::ostringstream notes;
+  const auto n = static_cast<std::size_t>(cloud.rows());
+  if (n < static_cast<std::size_t>(p.detection_clusters)) {
+    d.notes = "too few points for the colour clustering";
+    return d;
+  }
+  // Step 2: 5 NDI clusters, the one whose centroid has the largest N kept (grapes
+  // and the foliage around them).
+  const KMeansResult first = kmeans_pp(ndi(rgb), {p.detection_clusters, 100, p.seed});
+  std::size_t best = 0;
+  for (std::size_t c = 1; c < first.centroids.size(); ++c) {
+    if (first.sizes[c] > 0 && (first.sizes[best] == 0 || first.centroids[c].x() > first.centroids[best].x())) best = c;
+  }
+  Region kept;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (static_cast<std::size_t>(first.label[i]) == best) kept.push_back(static_cast<Eigen::Index>(i));
+  }
+  notes << "highest-N cluster " << kept.size() << " of " << n << " points (N = " << first.centroids[best].x()
+        << "); ";
+  // Step 3: grapes from foliage by a second NDI clustering and the colour rule.
+  const Region grapes = grape_coloured(rgb, kept, p, p.seed + 1, notes);
+  // Step 4: spatial clusters of at least min_points are the regions.
+  if (!grapes.empty()) {
+    for (const auto& c : euclidean_clusters(rows_of(cloud, grapes), p.clusters)) {
+      Region r;
+      for (auto i : c) r.push_back(grapes[static_cast<std::size_t>(i)]);
+      d.regions.push_back(std::move(r));
+    }
+  }
+  notes << "; " << d.regions.size() << " regions";
+  d.notes = notes.str();
+  return d;
+}
+
+Region roi_from_centre_of_mass(const PointCloud& cloud, const Region& rough, double radius) {
+  if (!(radius >= 0.01 && radius <= 2)) {
+    throw InputError("roi_from_centre_of_mass: radius = " + std::to_string(radius) + " m outside [0.01, 2]");
+  }
+  Region out;
+  if (rough.empty()) return out;
+  Eigen::RowVector3d cm = Eigen::RowVector3d::Zero();
+  for (auto i : rough) {
+    if (i < 0 || i >= cloud.rows()) throw InputError("roi_from_centre_of_mass: row " + std::to_string(i) + " outside the cloud");
+    cm += cloud.row(i);
+  }
+  cm /= static_cast<double>(rough.size());
+  for (Eigen::Index i = 0; i < cloud.rows(); ++i) {
+    const Eigen::RowVector3d d = (cloud.row(i) - cm).cwiseAbs();
+    if (d.maxCoeff() < radius) out.push_back(i);
+  }
+  return out;
+}
+
+Region fine_tune_region(const PointCloud& cloud, const std::vector<Rgb8>& rgb, const Region& region,
+                        const Seed003RoiParams& p) {
+  check(p);
+  check_inputs(cloud, rgb, "fine_tune_region");
+  std::ostringstream notes;
+  const Region grapes = grape_coloured(rgb, region, p, p.seed + 2, notes);
+  if (grapes.empty()) return {};
+  EuclideanClusterParams ec = p.clusters;
+  ec.min_points = 1;
+  const auto clusters = euclidean_clusters(rows_of(cloud, grapes), ec);
+  Region out;
+  for (auto i : clusters.front()) out.push_back(grapes[static_cast<std::size_t>(i)]);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace grapebench
