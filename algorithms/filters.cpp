@@ -51,14 +51,6 @@ FilteredCloud subset(const PointCloud& cloud, std::vector<Eigen::Index> keep, st
 
 std::vector<Eigen::Index> to_rows(const pcl::Indices& idx) { return {idx.begin(), idx.end()}; }
 
-void check_range(double v, double lo, double hi, const char* who, const char* name, const char* unit = "") {
-  if (!(v >= lo && v <= hi)) {
-    std::ostringstream s;
-    s << who << ": " << name << " = " << v << unit << " outside the allowed range [" << lo << ", " << hi << "]";
-    throw InputError(s.str());
-  }
-}
-
 // Principal extents (largest first) and the major axis of some rows of a cloud.
 struct Spread {
   Vec3 extent = Vec3::Zero();

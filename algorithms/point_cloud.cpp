@@ -2,6 +2,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <sstream>
+
 namespace grapebench {
 
 PointCloud to_point_cloud(const std::vector<Vec3>& points) {
@@ -32,6 +34,14 @@ void require_solid(const PointCloud& cloud, const std::string& who) {
   const Eigen::Vector3d ev = eig.eigenvalues().cwiseMax(0.0);  // ascending
   if (ev[2] <= 0 || std::sqrt(ev[0] / ev[2]) < 1e-9) {
     throw InputError(who + ": the points are coplanar (or collinear); a volume needs a 3-D cloud");
+  }
+}
+
+void check_range(double v, double lo, double hi, const char* who, const char* name, const char* unit) {
+  if (!(v >= lo && v <= hi)) {
+    std::ostringstream s;
+    s << who << ": " << name << " = " << v << unit << " outside the allowed range [" << lo << ", " << hi << "]";
+    throw InputError(s.str());
   }
 }
 

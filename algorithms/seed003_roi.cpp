@@ -10,20 +10,14 @@ namespace grapebench {
 namespace {
 
 void check(const Seed003RoiParams& p) {
-  auto range = [](double v, double lo, double hi, const char* name) {
-    if (!(v >= lo && v <= hi)) {
-      std::ostringstream s;
-      s << "seed003 roi: " << name << " = " << v << " outside [" << lo << ", " << hi << "]";
-      throw InputError(s.str());
-    }
-  };
-  range(p.detection_clusters, 1, 64, "detection_clusters");
-  range(p.separation_clusters, 1, 64, "separation_clusters");
-  range(p.n_min, -1, 1, "n_min");
-  range(p.d_min, -1, 1, "d_min");
-  range(p.d_max, -1, 1, "d_max");
-  range(p.i_min, -1, 1, "i_min");
-  range(p.roi_radius, 0.01, 2, "roi_radius");
+  const char* who = "seed003 roi";
+  check_range(p.detection_clusters, 1, 64, who, "detection_clusters");
+  check_range(p.separation_clusters, 1, 64, who, "separation_clusters");
+  check_range(p.n_min, -1, 1, who, "n_min");
+  check_range(p.d_min, -1, 1, who, "d_min");
+  check_range(p.d_max, -1, 1, who, "d_max");
+  check_range(p.i_min, -1, 1, who, "i_min");
+  check_range(p.roi_radius, 0.01, 2, who, "roi_radius", " m");
 }
 
 bool grape_colour(const Vec3& centroid, const Seed003RoiParams& p) {
@@ -113,9 +107,7 @@ Seed003Detection detect_grape_regions(const PointCloud& cloud, const std::vector
 }
 
 Region roi_from_centre_of_mass(const PointCloud& cloud, const Region& rough, double radius) {
-  if (!(radius >= 0.01 && radius <= 2)) {
-    throw InputError("roi_from_centre_of_mass: radius = " + std::to_string(radius) + " m outside [0.01, 2]");
-  }
+  check_range(radius, 0.01, 2, "roi_from_centre_of_mass", "radius", " m");
   Region out;
   if (rough.empty()) return out;
   Eigen::RowVector3d cm = Eigen::RowVector3d::Zero();

@@ -123,25 +123,31 @@ void stem_occluded(const RTCOccludedFunctionNArguments* args) {
 }
 
 
+// One lane of a ray packet: origin and direction (any length), the whole ray range.
+void set_lane(RTCRayHit16& rh, std::size_t k, float ox, float oy, float oz, float dx, float dy, float dz) {
+  rh.ray.org_x[k] = ox;
+  rh.ray.org_y[k] = oy;
+  rh.ray.org_z[k] = oz;
+  rh.ray.dir_x[k] = dx;
+  rh.ray.dir_y[k] = dy;
+  rh.ray.dir_z[k] = dz;
+  rh.ray.tnear[k] = 0;
+  rh.ray.tfar[k] = INFINITY;
+  rh.ray.time[k] = 0;
+  rh.ray.mask[k] = 0xFFFFFFFFu;  // Debian's Embree has ray masks enabled
+  rh.ray.flags[k] = 0;
+  rh.ray.id[k] = static_cast<unsigned>(k);
+  rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+}
+
 // Loads up to 16 rays into a packet; lanes past `n` are masked off.
 void load_packet(const Ray* rays, std::size_t n, RTCRayHit16& rh, int* valid) {
   for (std::size_t k = 0; k < 16; ++k) {
     valid[k] = k < n ? -1 : 0;
     const Ray& r = rays[std::min(k, n - 1)];
-    rh.ray.org_x[k] = static_cast<float>(r.origin.x());
-    rh.ray.org_y[k] = static_cast<float>(r.origin.y());
-    rh.ray.org_z[k] = static_cast<float>(r.origin.z());
-    rh.ray.dir_x[k] = static_cast<float>(r.direction.x());
-    rh.ray.dir_y[k] = static_cast<float>(r.direction.y());
-    rh.ray.dir_z[k] = static_cast<float>(r.direction.z());
-    rh.ray.tnear[k] = 0;
-    rh.ray.tfar[k] = INFINITY;
-    rh.ray.time[k] = 0;
-    rh.ray.mask[k] = 0xFFFFFFFFu;  // Debian's Embree has ray masks enabled
-    rh.ray.flags[k] = 0;
-    rh.ray.id[k] = static_cast<unsigned>(k);
-    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    set_lane(rh, k, static_cast<float>(r.origin.x()), static_cast<float>(r.origin.y()), static_cast<float>(r.origin.z()),
+             static_cast<float>(r.direction.x()), static_cast<float>(r.direction.y()), static_cast<float>(r.direction.z()));
   }
 }
 
@@ -266,6 +272,21 @@ void RayScene::refine(const Ray& ray, unsigned geom, unsigned prim, double t_flo
   h.colour = state_->bunch.stem_colour;
 }
 
+void RayScene::set_miss(Hit& h) {
+  // A miss sets only what says so: point, normal and colour are read only on hits.
+  h.t = -1;
+  h.part = Part::None;
+  h.berry = h.primitive = -1;
+}
+
+void RayScene::resolve(const Ray& ray, const RTCRayHit16& rh, std::size_t k, double t_scale, bool plane, Hit& h) const {
+  if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) refine(ray, rh.hit.geomID[k], rh.hit.primID[k], rh.ray.tfar[k] * t_scale, h);
+  if (plane) {
+    const Hit p = plane_hit(ray);
+    if (p.valid() && (!h.valid() || p.t < h.t)) h = p;
+  }
+}
+
 void RayScene::intersect(const std::vector<Ray>& rays, std::vector<Hit>& hits, bool bunch_only) const {
   hits.resize(rays.size());
   intersect(rays.data(), rays.size(), hits.data(), bunch_only);
@@ -281,17 +302,9 @@ void RayScene::intersect(const Ray* rays, std::size_t count, Hit* hits, bool bun
     load_packet(rays + base, n, rh, valid);
     rtcIntersect16(valid, state_->scene, &context, &rh);
     for (std::size_t k = 0; k < n; ++k) {
-      const Ray& r = rays[base + k];
       Hit& h = hits[base + k];
-      // A miss sets only what says so: point, normal and colour are read only on hits.
-      h.t = -1;
-      h.part = Part::None;
-      h.berry = h.primitive = -1;
-      if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) refine(r, rh.hit.geomID[k], rh.hit.primID[k], rh.ray.tfar[k], h);
-      if (!bunch_only && background_) {
-        const Hit p = plane_hit(r);
-        if (p.valid() && (!h.valid() || p.t < h.t)) h = p;
-      }
+      set_miss(h);
+      resolve(rays[base + k], rh, k, 1.0, !bunch_only && background_, h);
     }
   }
   if (!state_->last_error.empty()) throw InputError("ray scene: " + state_->last_error);
@@ -312,39 +325,18 @@ void RayScene::intersect_image_points(const PixelRays& camera, const double* uv,
       const std::size_t i = base + std::min(k, n - 1);
       const Vec3 d = uv[2 * i] * camera.c0 + uv[2 * i + 1] * camera.c1 + camera.c2;
       valid[k] = k < n ? -1 : 0;
-      rh.ray.org_x[k] = ox;
-      rh.ray.org_y[k] = oy;
-      rh.ray.org_z[k] = oz;
-      rh.ray.dir_x[k] = static_cast<float>(d.x());
-      rh.ray.dir_y[k] = static_cast<float>(d.y());
-      rh.ray.dir_z[k] = static_cast<float>(d.z());
-      rh.ray.tnear[k] = 0;
-      rh.ray.tfar[k] = INFINITY;
-      rh.ray.time[k] = 0;
-      rh.ray.mask[k] = 0xFFFFFFFFu;
-      rh.ray.flags[k] = 0;
-      rh.ray.id[k] = static_cast<unsigned>(k);
-      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+      set_lane(rh, k, ox, oy, oz, static_cast<float>(d.x()), static_cast<float>(d.y()), static_cast<float>(d.z()));
     }
     rtcIntersect16(valid, state_->scene, &context, &rh);
     for (std::size_t k = 0; k < n; ++k) {
       Hit& h = hits[base + k];
-      h.t = -1;
-      h.part = Part::None;
-      h.berry = h.primitive = -1;
-      const bool bunch_hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-      if (!bunch_hit && !plane) continue;
+      set_miss(h);
+      if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID && !plane) continue;
       const std::size_t i = base + k;
       const Vec3 d = uv[2 * i] * camera.c0 + uv[2 * i + 1] * camera.c1 + camera.c2;
       const double len = std::sqrt(d.squaredNorm());
-      const Ray r{camera.origin, d * (1.0 / len)};
       // Embree's t is in units of |d|.
-      if (bunch_hit) refine(r, rh.hit.geomID[k], rh.hit.primID[k], rh.ray.tfar[k] * len, h);
-      if (plane) {
-        const Hit p = plane_hit(r);
-        if (p.valid() && (!h.valid() || p.t < h.t)) h = p;
-      }
+      resolve({camera.origin, d * (1.0 / len)}, rh, k, len, plane, h);
     }
   }
   if (!state_->last_error.empty()) throw InputError("ray scene: " + state_->last_error);

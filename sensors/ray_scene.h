@@ -90,6 +90,10 @@ class RayScene {
 
  private:
   void refine(const Ray& ray, unsigned geom, unsigned prim, double t, Hit& hit) const;
+  static void set_miss(Hit& hit);
+  // Lane k of a cast packet into `hit` (preset to a miss): the refined bunch hit (Embree's
+  // t times t_scale is the distance along the unit `ray`), or the plane when nearer.
+  void resolve(const Ray& ray, const RTCRayHit16& rh, std::size_t k, double t_scale, bool plane, Hit& hit) const;
   Hit plane_hit(const Ray& ray) const;
 
   // The Embree device and scene with everything they point to; released together.

@@ -31,10 +31,6 @@ std::unique_ptr<Sensor> make_sensor(const ConfigNode& node) {
   node.fail("type", "unknown sensor");
 }
 
-std::array<std::uint8_t, 3> shade(const Rgb& c, const Vec3& normal, const Vec3& ray_dir) {
-  return shade(c, -normal.dot(ray_dir));
-}
-
 BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam) {
   BunchPixels b;
   b.visible = scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), b.u0, b.v0, b.u1, b.v1);

@@ -44,8 +44,8 @@ const std::vector<SensorEntry>& sensor_registry();
 std::unique_ptr<Sensor> make_sensor(const ConfigNode& node);
 
 // Helpers shared by the models.
-std::array<std::uint8_t, 3> shade(const Rgb& colour, const Vec3& normal, const Vec3& ray_dir);
-// The same from the cosine of incidence (Hit::cos_incidence). Inline: once per point.
+// Shaded colour of a point from the cosine of incidence (Hit::cos_incidence). Inline:
+// once per point.
 inline std::array<std::uint8_t, 3> shade(const Rgb& colour, double cos_incidence) {
   // Light at the camera: ambient plus Lambert; rounded half up by truncation.
   const float k = 0.35f + 0.65f * static_cast<float>(std::max(0.0, cos_incidence));
