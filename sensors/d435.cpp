@@ -27,8 +27,7 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
     return h.part != Part::Background || point_segment_distance_sq(bc, a, h.point) <= br * br;
   };
   const Eigen::Matrix3d to_cam = pose.linear().transpose();
-  OrganisedCloud out;
-  out.resize(W, H);
+  OrganisedCloud out = frame_for(scene, cam, bp);
   std::atomic<std::uint64_t> rays_cast{0};
 
   for_rows(H, [&](int r0, int r1) {

@@ -15,8 +15,7 @@ OrganisedCloud capture_exact(const RayScene& scene, const Camera& cam) {
   const bool bunch_visible = bp.visible;
   const int bu0 = bp.u0, bv0 = bp.v0, bu1 = bp.u1, bv1 = bp.v1;
   const Eigen::Matrix3d to_cam = pose.linear().transpose();
-  OrganisedCloud out;
-  out.resize(W, H);
+  OrganisedCloud out = frame_for(scene, cam, bp);
   std::atomic<std::uint64_t> rays_cast{0};
   for_rows(H, [&](int r0, int r1) {
     // Per-thread buffers, reused across rows and frames (no page faults per block).

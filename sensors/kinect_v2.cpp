@@ -34,25 +34,24 @@ void KinectV2::row_samples(int v, int ua, int ub, int sub_a, int sub_b, int widt
                            std::vector<double>& jitter, std::vector<double>& uv) const {
   const int n = p_.supersampling;
   const double lateral = p_.lateral_sd_px * p_.noise_scale;
-  jitter.assign(2 * static_cast<std::size_t>(width), 0.0);
-  // Lateral jitter (counters 3 k and 3 k + 1 of pixel k), in its own loop so the
-  // draws pipeline.
-  if (lateral > 0) {
-    for (int u = ua; u < ub; ++u) {
-      const std::uint64_t k = 3 * (static_cast<std::uint64_t>(v) * width + u);
-      jitter[2 * u] = lateral * hashed_normal_tabulated(seed, k);
-      jitter[2 * u + 1] = lateral * hashed_normal_tabulated(seed, k + 1);
-    }
+  // Only [ua, ub) is read; lateral jitter is counters 3 k and 3 k + 1 of pixel k.
+  jitter.resize(2 * static_cast<std::size_t>(width));
+  const std::uint64_t k0 = 3 * static_cast<std::uint64_t>(v) * width;
+  for (int u = ua; u < ub; ++u) {
+    const std::uint64_t k = k0 + 3 * static_cast<std::uint64_t>(u);
+    jitter[2 * u] = lateral > 0 ? lateral * hashed_normal_tabulated(seed, k) : 0.0;
+    jitter[2 * u + 1] = lateral > 0 ? lateral * hashed_normal_tabulated(seed, k + 1) : 0.0;
   }
   uv.resize(2 * static_cast<std::size_t>(sub_b - sub_a) * n * n);
   double offset[8];  // sample centres within a pixel, px (n <= 8)
   for (int a = 0; a < n; ++a) offset[a] = (a + 0.5) / n;
   double* q = uv.data();
   for (int u = sub_a; u < sub_b; ++u) {
+    const double ju = u + jitter[2 * u], jv = v + jitter[2 * u + 1];
     for (int a = 0; a < n; ++a) {
       for (int b = 0; b < n; ++b) {
-        *q++ = u + offset[b] + jitter[2 * u];
-        *q++ = v + offset[a] + jitter[2 * u + 1];
+        *q++ = ju + offset[b];
+        *q++ = jv + offset[a];
       }
     }
   }
@@ -81,8 +80,7 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
   const bool bunch_visible = bp.visible;
   const int bu0 = bp.u0, bv0 = bp.v0, bu1 = bp.u1, bv1 = bp.v1;
 
-  OrganisedCloud out;
-  out.resize(W, H);
+  OrganisedCloud out = frame_for(scene, cam, bp);
   // Raw depth of every return; set exactly where out.label is (no fill needed).
   raw_vector<float> depth(out.size());
   std::atomic<std::uint64_t> rays_cast{0};
@@ -182,7 +180,7 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
         if (z < p_.min_range || z > p_.max_range || cos_theta < cos_max_incidence) continue;
         // The axial draw is made only for returns (counter 3 k + 2 of the pixel).
         const std::uint64_t k3 = 3 * (static_cast<std::uint64_t>(v) * W + u);
-        const double zn = z + p_.noise_scale * axial_sigma(z, std::acos(cos_theta)) * hashed_normal(seed, k3 + 2);
+        const double zn = z + p_.noise_scale * axial_sigma(z, std::acos(cos_theta)) * hashed_normal_tabulated(seed, k3 + 2);
         const Vec3 pc(xc * zn, yc * zn, zn);
         out.xyz[idx] = pc.cast<float>();
         out.normal[idx] = (to_cam * dom.normal).cast<float>();

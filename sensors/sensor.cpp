@@ -37,6 +37,17 @@ BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam) {
   return b;
 }
 
+OrganisedCloud frame_for(const RayScene& scene, const Camera& cam, const BunchPixels& bp) {
+  OrganisedCloud out;
+  const int H = cam.K.height;
+  if (scene.background()) {
+    out.resize(cam.K.width, H);
+  } else {
+    out.resize(cam.K.width, H, bp.v0, bp.visible ? bp.v1 : bp.v0);
+  }
+  return out;
+}
+
 std::size_t trace_row(const RayScene& scene, const Camera& cam, int v, int ua, int ub, int bu0, int bu1,
                       bool sees_bunch, std::vector<double>& uv, std::vector<Hit>& hits) {
   hits.resize(cam.K.width);

@@ -65,6 +65,9 @@ struct BunchPixels {
   int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
 };
 BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam);
+// A frame of `cam`'s size whose valid and label maps can change only in the rows that
+// can return light: all of them with a background plane, else those of `bp`.
+OrganisedCloud frame_for(const RayScene& scene, const Camera& cam, const BunchPixels& bp);
 
 // One ray per pixel centre of row v over pixels [ua, ub): Embree for [bu0, bu1) when
 // `sees_bunch`, the analytic background elsewhere; hits[u] for pixel u (`uv` is

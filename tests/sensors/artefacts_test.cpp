@@ -96,6 +96,35 @@ TEST(Sensors, SkippingPixelsThatCannotSeeTheBunchChangesNothing) {
   EXPECT_LT(c.rays_cast, rays.size() / 4);  // most of the frame was never traced
 }
 
+// Frames without a background declare the rows their valid and label maps can change
+// in, and recycled frames are refilled only there: a sensor writing outside them, or
+// a stale recycled map, would show here (the frame pool is active in Release builds).
+TEST(Sensors, FramesChangeTheirMapsOnlyInTheDeclaredRowsAndRecycleClean) {
+  const Bunch b = test_bunch();
+  const RayScene scene(b);
+  const Vec3 c = scene.bounds_centre();
+  const auto high = look_at(c - Vec3(0, 0.6, 0.25), c - Vec3(0, 0, 0.2));  // bunch low in the frame
+  const auto low = look_at(c - Vec3(0, 1.2, -0.2), c + Vec3(0, 0, 0.25));  // bunch high in the frame
+  const KinectV2 kinect(KinectV2Params{});
+  const D435 d435(D435Params{});
+  const IdealSensor ideal(IdealParams{});
+  for (const Sensor* s : std::initializer_list<const Sensor*>{&kinect, &d435, &ideal}) {
+    SCOPED_TRACE(s->type());
+    const std::string first = pcd_bytes(s->capture(scene, high, 4));
+    { const OrganisedCloud other = s->capture(scene, low, 5); }  // its maps go back to the pool
+    const OrganisedCloud again = s->capture(scene, high, 4);
+    EXPECT_EQ(first, pcd_bytes(again));
+    const ByteMap& label = again.label;
+    ASSERT_LT(label.writes_begin(), label.writes_end());
+    ASSERT_LT(label.writes_end() - label.writes_begin(), again.size() / 2);  // the bunch's rows only
+    for (std::size_t i = 0; i < again.size(); ++i) {
+      if (i >= label.writes_begin() && i < label.writes_end()) continue;
+      ASSERT_EQ(label[i], static_cast<std::uint8_t>(Part::None)) << "pixel " << i;
+      ASSERT_EQ(again.valid[i], 0) << "pixel " << i;
+    }
+  }
+}
+
 TEST(Sensors, NoReturnIsAHiddenSurfacePoint) {
   const Bunch b = test_bunch();
   const RayScene scene(b);
