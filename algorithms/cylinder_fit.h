@@ -11,7 +11,7 @@ struct CylinderFitParams {
   // maxDistance; 1 cm is a few D435 noise levels at 1.5 m.
   double max_distance = 0.01;
   double min_radius = 0.01, max_radius = 0.3;  // m, [1e-3, 1]
-  int max_iterations = 10000;                  // [1, 1e6]
+  int max_iterations = 1000;                   // [1, 1e6]; MATLAB pcfitcylinder MaxNumTrials default
   double normal_weight = 0.1;                  // weight of the normal angle, [0, 1]
   int normal_k = 20;                           // neighbours for normals, [3, 500]
 };

@@ -18,9 +18,12 @@ namespace grapebench {
 // SI units inside the program (m3, m); the harness writes cm3 and mm.
 // Perimeters are of the sections through the bunch centre normal to the height,
 // length and width axis (seed 002 Eqs. 10-12).
-enum class Quantity { Volume, Height, Length, Width, PerimeterH, PerimeterL, PerimeterW };
-inline constexpr Quantity kAllQuantities[] = {Quantity::Volume, Quantity::Height, Quantity::Length, Quantity::Width,
-                                              Quantity::PerimeterH, Quantity::PerimeterL, Quantity::PerimeterW};
+// SizeMajor / SizeMinor: seed 003's pair of size measures G_x (Eq. 3), the larger and
+// the smaller, scored against the hanging bunch's length and width, larger first.
+enum class Quantity { Volume, Height, Length, Width, PerimeterH, PerimeterL, PerimeterW, SizeMajor, SizeMinor };
+inline constexpr Quantity kAllQuantities[] = {Quantity::Volume,     Quantity::Height,     Quantity::Length,
+                                              Quantity::Width,      Quantity::PerimeterH, Quantity::PerimeterL,
+                                              Quantity::PerimeterW, Quantity::SizeMajor,  Quantity::SizeMinor};
 const char* quantity_name(Quantity q);  // "volume", "height", ..., "perimeter_h"
 
 // What one run of an estimator gives the harness.

@@ -1,6 +1,7 @@
 #include "bench/case_run.h"
 
 #include "algorithms/registration.h"
+#include "bench/frame_run.h"
 #include "bench/heap_meter.h"
 #include "sensors/scan.h"
 #include "synth/generate.h"
@@ -18,7 +19,7 @@ namespace grapebench {
 namespace {
 
 // Bump when the meaning of a case file changes, so old results are recomputed.
-constexpr const char* kCaseFormat = "grapebench-case-3";
+constexpr const char* kCaseFormat = "grapebench-case-4";
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -42,6 +43,9 @@ double truth_of(Quantity q, const GroundTruth& gt) {
     case Quantity::PerimeterH: return gt.section_perimeter(0);
     case Quantity::PerimeterL: return gt.section_perimeter(1);
     case Quantity::PerimeterW: return gt.section_perimeter(2);
+    // Seed 003: the hanging bunch's length and width, larger first.
+    case Quantity::SizeMajor: return std::max(gt.height, gt.row_width);
+    case Quantity::SizeMinor: return std::min(gt.height, gt.row_width);
   }
   return 0;
 }
@@ -51,19 +55,6 @@ Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) 
   t.linear() = Eigen::AngleAxisd(angle_rad, Vec3::UnitZ()).toRotationMatrix();
   t.translation() = centre - t.linear() * centre;
   return t;
-}
-
-// Runs pipeline steps in order on a cloud and its per-point labels (each step says
-// which input point every output point comes from).
-void apply_filters(const std::vector<FilterSpec>& steps, PointCloud& cloud, std::vector<std::uint8_t>& labels) {
-  for (const auto& f : steps) {
-    if (cloud.rows() == 0) return;
-    FilteredCloud out = f.run(cloud);
-    std::vector<std::uint8_t> next(out.source.size());
-    for (std::size_t i = 0; i < next.size(); ++i) next[i] = labels[static_cast<std::size_t>(out.source[i])];
-    cloud = std::move(out.points);
-    labels = std::move(next);
-  }
 }
 
 }  // namespace
@@ -83,6 +74,7 @@ nlohmann::ordered_json condition_json(const Condition& c) {
                      {"distance_m", s.background.distance},
                      {"colour", {s.background.colour.r, s.background.colour.g, s.background.colour.b}},
                      {"albedo", s.background.albedo}};
+  if (s.foliage) j["foliage"] = foliage_json(*s.foliage);
   j["pipeline"] = s.pipeline.describe();
   nlohmann::ordered_json est = nlohmann::ordered_json::array();
   for (const auto& e : s.estimators) est.push_back({{"name", e.name}, {"type", e.type}, {"params", e.params}});
@@ -100,6 +92,50 @@ std::string case_key(const Condition& condition, const BunchJob& job) {
   return hex;
 }
 
+std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
+                                        const GroundTruth& gt, const std::string& cloud_error) {
+  std::vector<EstimateRow> rows;
+  for (const auto& spec : specs) {
+    Estimate est;
+    std::string error = cloud_error;
+    double secs = 0, heap_mb = -1;
+    if (error.empty()) {
+      const HeapMeter meter;
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        est = spec.run(cloud);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      secs = seconds_since(t0);
+      if (heap_meter_available()) heap_mb = static_cast<double>(meter.peak_bytes()) / 1e6;
+    }
+    for (const Quantity q : spec.quantities) {
+      EstimateRow row;
+      row.estimator = spec.name;
+      row.type = spec.type;
+      row.quantity = quantity_name(q);
+      row.truth = truth_of(q, gt);  // zero when the case failed before its ground truth
+      row.seconds = secs;
+      row.peak_heap_mb = heap_mb;
+      row.error = error;
+      row.region_points = static_cast<std::size_t>(cloud.rows());
+      if (error.empty()) {
+        for (const auto& [qq, v] : est.values) {
+          if (qq == q) {
+            row.estimate = v;
+            row.ok = std::isfinite(v);
+          }
+        }
+        if (!row.ok) row.error = "the estimator gave no finite value";
+        row.watertight = est.watertight;
+      }
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
 CaseResult run_case(const Condition& condition, int condition_index, const BunchJob& job) {
   const Scene& scene = condition.scene;
   CaseResult r;
@@ -115,11 +151,16 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
     auto t0 = std::chrono::steady_clock::now();
     const Bunch bunch = generate_bunch(job.params, job.seed);
     gt = compute_ground_truth(bunch, job.params.density);
-    const RayScene rays(bunch);
+    const RayScene rays = scene_rays(scene, bunch, job.seed);
     // Same stream as `grapebench scan`, so a case's scan can be written and inspected.
     const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
     r.scan_seconds = seconds_since(t0);
     r.views = static_cast<int>(scan.views.size());
+    if (scene.pipeline.registration == "single_frame") {
+      measure_frames(scene, scan, gt, r);
+      r.ok = true;
+      return r;
+    }
 
     // Segmentation: the returns on bunch parts (labels) or every return (none), in
     // each camera's frame, with their ground-truth labels carried along so every
@@ -231,43 +272,8 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
     r.ok = false;
     r.error = e.what();
   }
-  for (const auto& spec : scene.estimators) {
-    Estimate est;
-    std::string error = r.ok ? "" : "no cloud: " + r.error;
-    double secs = 0, heap_mb = -1;
-    if (r.ok) {
-      const HeapMeter meter;
-      const auto t0 = std::chrono::steady_clock::now();
-      try {
-        est = spec.run(merged);
-      } catch (const std::exception& e) {
-        error = e.what();
-      }
-      secs = seconds_since(t0);
-      if (heap_meter_available()) heap_mb = static_cast<double>(meter.peak_bytes()) / 1e6;
-    }
-    for (const Quantity q : spec.quantities) {
-      EstimateRow row;
-      row.estimator = spec.name;
-      row.type = spec.type;
-      row.quantity = quantity_name(q);
-      row.truth = r.ok ? truth_of(q, gt) : 0;
-      row.seconds = secs;
-      row.peak_heap_mb = heap_mb;
-      row.error = error;
-      if (error.empty()) {
-        for (const auto& [qq, v] : est.values) {
-          if (qq == q) {
-            row.estimate = v;
-            row.ok = std::isfinite(v);
-          }
-        }
-        if (!row.ok) row.error = "the estimator gave no finite value";
-        row.watertight = est.watertight;
-      }
-      r.rows.push_back(row);
-    }
-  }
+  if (scene.pipeline.registration == "single_frame") return r;  // its rows are per frame
+  r.rows = run_estimators(scene.estimators, merged, gt, r.ok ? "" : "no cloud: " + r.error);
   return r;
 }
 
@@ -299,7 +305,8 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   for (const auto& r : c.rows) {
     rows.push_back({{"estimator", r.estimator}, {"type", r.type}, {"quantity", r.quantity}, {"ok", r.ok},
                     {"estimate", r.estimate}, {"truth", r.truth}, {"watertight", r.watertight}, {"error", r.error},
-                    {"seconds", r.seconds}, {"peak_heap_mb", r.peak_heap_mb}});
+                    {"seconds", r.seconds}, {"peak_heap_mb", r.peak_heap_mb}, {"frame", r.frame}, {"roi", r.roi},
+                    {"region", r.region}, {"region_points", r.region_points}, {"region_precision", r.region_precision}});
   }
   j["rows"] = rows;
   return j;
@@ -341,6 +348,11 @@ CaseResult case_from_json(const nlohmann::json& j) {
     e.error = r.at("error").get<std::string>();
     e.seconds = r.at("seconds").get<double>();
     e.peak_heap_mb = r.at("peak_heap_mb").get<double>();
+    e.frame = r.at("frame").get<int>();
+    e.roi = r.at("roi").get<std::string>();
+    e.region = r.at("region").get<int>();
+    e.region_points = r.at("region_points").get<std::size_t>();
+    e.region_precision = r.at("region_precision").get<double>();
     c.rows.push_back(e);
   }
   return c;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "bench/scene.h"
+#include "synth/ground_truth.h"
 
 #include <nlohmann/json.hpp>
 
@@ -22,6 +23,13 @@ struct EstimateRow {
   std::string error;
   double seconds = 0;     // wall time of the estimator (not deterministic)
   double peak_heap_mb = -1;  // most heap (operator new) it held above its start, MB; -1: not measured
+  // Single-frame pipelines (seed 003): the view, the ROI kind (auto_r, auto_cm,
+  // manual_r, manual_cm) and the region's index in that frame; -1 / "" otherwise.
+  int frame = -1;
+  std::string roi;
+  int region = -1;
+  std::size_t region_points = 0;  // points the estimator saw
+  double region_precision = -1;   // fraction of them on the bunch (labels); -1: n/a
 };
 
 struct CaseResult {
@@ -52,6 +60,25 @@ struct CaseResult {
 // Everything a case depends on, hashed: the condition's full parameters, the bunch
 // job and the program's format version.
 std::string case_key(const Condition& condition, const BunchJob& job);
+
+// Runs pipeline steps in order on a cloud and a per-point value carried along (labels,
+// pixel indices): each step says which input point every output point comes from.
+template <class T>
+void apply_filters(const std::vector<FilterSpec>& steps, PointCloud& cloud, std::vector<T>& carried) {
+  for (const auto& f : steps) {
+    if (cloud.rows() == 0) return;
+    FilteredCloud out = f.run(cloud);
+    std::vector<T> next(out.source.size());
+    for (std::size_t i = 0; i < next.size(); ++i) next[i] = carried[static_cast<std::size_t>(out.source[i])];
+    cloud = std::move(out.points);
+    carried = std::move(next);
+  }
+}
+
+// The rows of every estimator of `specs` on one cloud, timed, with their truths; when
+// `cloud_error` is set the cloud could not be made and every row fails with it.
+std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
+                                        const GroundTruth& gt, const std::string& cloud_error);
 
 // Runs a case; errors of the bunch's scan or an estimator are recorded, not thrown.
 CaseResult run_case(const Condition& condition, int condition_index, const BunchJob& job);

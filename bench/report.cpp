@@ -172,6 +172,59 @@ std::string time_plot(const std::vector<std::string>& names, const std::vector<d
   return o.str();
 }
 
+// Vertical bars grouped by `groups` (x), one colour per series, mean with +- sd
+// whiskers; NaN means no data.
+std::string grouped_bars(const std::string& title, const std::string& ylabel, const std::vector<std::string>& groups,
+                         const std::vector<std::string>& series, const std::vector<std::vector<double>>& mean,
+                         const std::vector<std::vector<double>>& sd) {
+  const double W = 520, H = 300, L = 56, R = 120, T = 30, B = 40;
+  double mx = 0;
+  for (std::size_t i = 0; i < series.size(); ++i)
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      if (std::isfinite(mean[i][g])) mx = std::max(mx, mean[i][g] + (std::isfinite(sd[i][g]) ? sd[i][g] : 0));
+  if (mx <= 0) mx = 1;
+  const double gw = (W - L - R) / std::max<double>(1, static_cast<double>(groups.size()));
+  const double bw = 0.8 * gw / std::max<double>(1, static_cast<double>(series.size()));
+  const auto py = [&](double v) { return T + (H - T - B) * (1 - v / mx); };
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H << "\" viewBox=\"0 0 " << W
+    << " " << H << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << "<text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << esc(title) << "</text>\n"
+    << "<line x1=\"" << L << "\" x2=\"" << L << "\" y1=\"" << T << "\" y2=\"" << H - B << "\" stroke=\"black\"/>"
+    << "<line x1=\"" << L << "\" x2=\"" << W - R << "\" y1=\"" << H - B << "\" y2=\"" << H - B << "\" stroke=\"black\"/>\n";
+  for (int k = 0; k <= 4; ++k) {
+    const double v = mx * k / 4;
+    o << "<text x=\"" << L - 4 << "\" y=\"" << py(v) + 4 << "\" text-anchor=\"end\">" << fmt(v, 2) << "</text>";
+  }
+  o << "<text x=\"14\" y=\"" << (T + H - B) / 2 << "\" transform=\"rotate(-90 14 " << (T + H - B) / 2
+    << ")\" text-anchor=\"middle\">" << esc(ylabel) << "</text>\n";
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const double x0 = L + gw * static_cast<double>(g) + 0.1 * gw;
+    o << "<text x=\"" << L + gw * (static_cast<double>(g) + 0.5) << "\" y=\"" << H - B + 16 << "\" text-anchor=\"middle\">"
+      << esc(groups[g]) << "</text>";
+    for (std::size_t i = 0; i < series.size(); ++i) {
+      const double m = mean[i][g];
+      if (!std::isfinite(m)) continue;
+      const double x = x0 + bw * static_cast<double>(i);
+      o << "<rect x=\"" << x << "\" y=\"" << py(m) << "\" width=\"" << bw * 0.9 << "\" height=\"" << py(0) - py(m)
+        << "\" fill=\"" << colour(i) << "\"/>";
+      if (std::isfinite(sd[i][g]) && sd[i][g] > 0) {
+        const double xc = x + bw * 0.45;
+        o << "<line x1=\"" << xc << "\" x2=\"" << xc << "\" y1=\"" << py(m + sd[i][g]) << "\" y2=\""
+          << py(std::max(0.0, m - sd[i][g])) << "\" stroke=\"black\"/>";
+      }
+    }
+    o << "\n";
+  }
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    const double y = T + 16 * static_cast<double>(i);
+    o << "<rect x=\"" << W - R + 8 << "\" y=\"" << y << "\" width=\"10\" height=\"10\" fill=\"" << colour(i) << "\"/>"
+      << "<text x=\"" << W - R + 22 << "\" y=\"" << y + 9 << "\">" << esc(series[i]) << "</text>\n";
+  }
+  o << "</svg>\n";
+  return o.str();
+}
+
 std::string file_name(std::string s) {
   for (char& c : s) {
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
@@ -181,7 +234,8 @@ std::string file_name(std::string s) {
 
 }  // namespace
 
-Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores) {
+Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores,
+                   const std::vector<SizeErrorCell>& size_cells) {
   Report rep;
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>grapebench: " << esc(set.base.name)
@@ -307,6 +361,102 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
       }
     }
     h << "</div>\n";
+  }
+
+  if (!size_cells.empty()) {
+    // Seed 003's Table II: Err (Eq. 3) per estimator and ROI kind, all conditions pooled.
+    const std::vector<std::string> kinds = {"auto_r", "auto_cm", "manual_r", "manual_cm"};
+    std::vector<std::string> ests;
+    for (const auto& c : size_cells) {
+      if (c.condition == -1 && std::find(ests.begin(), ests.end(), c.estimator) == ests.end()) ests.push_back(c.estimator);
+    }
+    const auto find = [&](const std::string& e, const std::string& k, int cond) -> const SizeErrorCell* {
+      for (const auto& c : size_cells) {
+        if (c.estimator == e && c.roi == k && c.condition == cond) return &c;
+      }
+      return nullptr;
+    };
+    h << "<h2>Size error (seed 003 Table II)</h2>\n<p>Err = 0.5 |G1 - L| + 0.5 |G2 - W| (Eq. 3; measures and truths "
+         "larger first), cm, mean +- sd over the fine-tuned ROIs (count); Filter keeps Err &lt; 10 cm. All conditions "
+         "pooled; precision is the mean fraction of a tuned ROI on the bunch. Per condition: size_error.csv.</p>\n"
+         "<table><tr><th class=l>estimator</th><th class=l></th>";
+    for (const auto& k : kinds) h << "<th>" << k << "</th>";
+    h << "</tr>\n";
+    for (const auto& e : ests) {
+      for (int f = 0; f < 3; ++f) {
+        h << "<tr><td class=l>" << (f ? "" : esc(e)) << "</td><td class=l>" << (f == 0 ? "All" : f == 1 ? "Filter" : "precision")
+          << "</td>";
+        for (const auto& k : kinds) {
+          const SizeErrorCell* c = find(e, k, -1);
+          if (!c || c->regions == 0) {
+            h << "<td>-</td>";
+          } else if (f == 0) {
+            h << "<td>" << fmt(100 * c->mean, 2) << " +- " << fmt(100 * c->sd, 2) << " (" << c->regions << ")</td>";
+          } else if (f == 1) {
+            h << "<td>" << fmt(100 * c->kept_mean, 2) << " +- " << fmt(100 * c->kept_sd, 2) << " (" << c->kept << ")</td>";
+          } else {
+            h << "<td>" << fmt(c->precision_mean, 3) << "</td>";
+          }
+        }
+        h << "</tr>\n";
+      }
+    }
+    h << "</table>\n";
+    // Figs. 8-9: Err of the paper's analysed variant (G_E on manual ROI_R, unfiltered)
+    // by the values of one swept axis, one series per value of another, pooling the rest.
+    std::string est = ests.front(), roi = "manual_r";
+    for (const auto& spec : set.base.estimators) {
+      if (spec.type == "percentile_box_edges" && std::find(ests.begin(), ests.end(), spec.name) != ests.end()) est = spec.name;
+    }
+    if (!find(est, roi, -1)) roi = find(est, "auto_r", -1) ? "auto_r" : kinds.front();
+    const auto axis_value = [&](std::size_t a, int cond) {
+      const auto& ax = set.base.sweep[a];
+      const double v = set.conditions[static_cast<std::size_t>(cond)].values[a];
+      return ax.names.empty() ? fmt(v, 3) : ax.names[static_cast<std::size_t>(v)];
+    };
+    const std::size_t axes = set.base.sweep.size();
+    if (axes > 0) {
+      h << "<h2>Size error by condition (seed 003 Figs. 8-9)</h2>\n<p>" << esc(est) << " on " << esc(roi)
+        << ", unfiltered, cm; bars: mean, whiskers: +- sd, pooled over the other axes.</p>\n<div class=plots>\n";
+      for (std::size_t a = 0; a < axes; ++a) {
+        for (std::size_t b = 0; b < axes; ++b) {
+          if (b == a && axes > 1) continue;  // one axis alone: a single series
+          const auto series_of = [&](int c) { return b == a ? std::string("all") : axis_value(b, c); };
+          std::vector<std::string> groups, series;
+          for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+            const std::string ga = axis_value(a, static_cast<int>(c)), sb = series_of(static_cast<int>(c));
+            if (std::find(groups.begin(), groups.end(), ga) == groups.end()) groups.push_back(ga);
+            if (std::find(series.begin(), series.end(), sb) == series.end()) series.push_back(sb);
+          }
+          std::vector<std::vector<double>> n(series.size(), std::vector<double>(groups.size(), 0)), sum = n, sq = n;
+          for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+            const SizeErrorCell* cell = find(est, roi, static_cast<int>(c));
+            if (!cell || cell->regions == 0) continue;
+            const auto gi = static_cast<std::size_t>(std::find(groups.begin(), groups.end(), axis_value(a, static_cast<int>(c))) - groups.begin());
+            const auto si = static_cast<std::size_t>(std::find(series.begin(), series.end(), series_of(static_cast<int>(c))) - series.begin());
+            const double k = cell->regions, m = 100 * cell->mean, sd = 100 * cell->sd;
+            n[si][gi] += k;
+            sum[si][gi] += k * m;
+            sq[si][gi] += (k - 1) * sd * sd + k * m * m;  // sum of squares, from the cell's mean and sd
+          }
+          std::vector<std::vector<double>> mean = n, sdv = n;
+          for (std::size_t i = 0; i < series.size(); ++i) {
+            for (std::size_t g = 0; g < groups.size(); ++g) {
+              const double k = n[i][g];
+              mean[i][g] = k > 0 ? sum[i][g] / k : std::nan("");
+              sdv[i][g] = k > 1 ? std::sqrt(std::max(0.0, (sq[i][g] - k * mean[i][g] * mean[i][g]) / (k - 1))) : std::nan("");
+            }
+          }
+          const std::string& ka = set.base.sweep[a].key;
+          const std::string& kb = set.base.sweep[b].key;
+          const std::string title = b == a ? "Err by " + ka : "Err by " + ka + " and " + kb;
+          const std::string svg = grouped_bars(title, "Err, cm", groups, series, mean, sdv);
+          rep.svgs["size_error_" + file_name(ka) + (b == a ? "" : "_by_" + file_name(kb)) + ".svg"] = svg;
+          h << svg;
+        }
+      }
+      h << "</div>\n";
+    }
   }
 
   // Time per estimator (all conditions pooled).

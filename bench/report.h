@@ -2,6 +2,7 @@
 #pragma once
 
 #include "bench/runner.h"
+#include "bench/size_error.h"
 
 #include <map>
 #include <string>
@@ -15,6 +16,8 @@ struct Report {
 
 // Plots: estimated vs true per estimator and quantity, error vs each swept
 // parameter, time per estimator; tables of scores and registration.
-Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores);
+// With single-frame size rows (seed 003): Table II and its error by condition (Figs. 8-9).
+Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores,
+                   const std::vector<SizeErrorCell>& size_cells = {});
 
 }  // namespace grapebench

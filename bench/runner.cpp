@@ -1,6 +1,7 @@
 #include "bench/runner.h"
 
 #include "bench/report.h"
+#include "bench/size_error.h"
 #include "synth/io.h"
 
 #include <tbb/global_control.h>
@@ -76,13 +77,16 @@ std::string results_csv(const SceneSet& set, const std::vector<CaseResult>& case
   s << "scene,condition";
   for (const auto& a : set.base.sweep) s << "," << csv_field(a.key);
   s << ",bunch,preset,seed,estimator,type,quantity,unit,estimate,truth,error,rel_error_pct,ok,watertight,points,"
-       "rotation_error_max_deg,translation_error_max_mm,message\n";
+       "rotation_error_max_deg,translation_error_max_mm,message,frame,roi,region,region_points,region_precision\n";
   for (const auto& c : cases) {
     const Condition& cond = set.conditions[static_cast<std::size_t>(c.condition)];
     for (const auto& r : c.rows) {
       const double k = display_scale(r.quantity);
       s << csv_field(set.base.name) << "," << csv_field(cond.label);
-      for (double v : cond.values) s << "," << num(v);
+      for (std::size_t a = 0; a < cond.values.size(); ++a) {
+        const auto& names = set.base.sweep[a].names;
+        s << "," << (names.empty() ? num(cond.values[a]) : csv_field(names[static_cast<std::size_t>(cond.values[a])]));
+      }
       s << "," << c.bunch << "," << c.preset << "," << c.seed << "," << csv_field(r.estimator) << "," << r.type << ","
         << r.quantity << "," << display_unit(r.quantity) << ",";
       if (r.ok) {
@@ -92,8 +96,9 @@ std::string results_csv(const SceneSet& set, const std::vector<CaseResult>& case
         s << "NaN," << (c.ok ? num(r.truth * k) : "NaN") << ",NaN,NaN";
       }
       s << "," << (r.ok ? 1 : 0) << "," << (r.watertight ? 1 : 0) << "," << c.points << ","
-        << num(c.rotation_error_max_deg) << "," << num(c.translation_error_max_mm) << "," << csv_field(r.error)
-        << "\n";
+        << num(c.rotation_error_max_deg) << "," << num(c.translation_error_max_mm) << "," << csv_field(r.error) << ","
+        << r.frame << "," << r.roi << "," << r.region << "," << r.region_points << ","
+        << (r.region_precision >= 0 ? num(r.region_precision) : "NaN") << "\n";
     }
   }
   return s.str();
@@ -264,7 +269,12 @@ void write_outputs(const SceneSet& set, const std::vector<CaseResult>& cases, co
   write_file_atomic(o.out / "summary.json", summary_json(set, cases, scores).dump(1) + "\n");
   write_file_atomic(o.out / "timings.json", timings_json(set, scores).dump(1) + "\n");
   write_file_atomic(o.out / "manifest.json", manifest_json(set, o).dump(1) + "\n");
-  const Report report = make_report(set, cases, scores);
+  const auto size_cells = size_error_cells(set, cases);
+  if (!size_cells.empty()) {
+    write_file_atomic(o.out / "size_error.csv", size_error_csv(set, size_cells));
+    write_file_atomic(o.out / "size_error_table.md", size_error_table(size_cells));
+  }
+  const Report report = make_report(set, cases, scores, size_cells);
   fs::create_directories(o.out / "plots");
   for (const auto& [name, svg] : report.svgs) write_file_atomic(o.out / "plots" / name, svg);
   write_file_atomic(o.out / "report.html", report.html);
@@ -308,26 +318,38 @@ std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseRes
   std::vector<ScoreRow> out;
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
     for (const auto& spec : set.conditions[c].scene.estimators) {
-      for (const Quantity q : spec.quantities) {
-        const std::string qn = quantity_name(q);
-        const double k = display_scale(qn);
-        std::vector<double> est, truth, secs;
-        double heap = std::nan("");
-        int n = 0;
-        for (const auto& cr : cases) {
-          if (cr.condition != static_cast<int>(c)) continue;
-          for (const auto& r : cr.rows) {
-            if (r.estimator != spec.name || r.quantity != qn) continue;
-            ++n;
-            if (cr.ok) secs.push_back(r.seconds);
-            if (r.peak_heap_mb >= 0) heap = std::isnan(heap) ? r.peak_heap_mb : std::max(heap, r.peak_heap_mb);
-            if (r.ok) {
-              est.push_back(r.estimate * k);
-              truth.push_back(r.truth * k);
+      // Single-frame pipelines score each ROI kind apart ("G_E@manual_r").
+      std::vector<std::string> rois;
+      for (const auto& cr : cases) {
+        if (cr.condition != static_cast<int>(c)) continue;
+        for (const auto& r : cr.rows) {
+          if (r.estimator == spec.name && std::find(rois.begin(), rois.end(), r.roi) == rois.end()) rois.push_back(r.roi);
+        }
+      }
+      if (rois.empty()) rois.push_back("");
+      for (const auto& roi : rois) {
+        for (const Quantity q : spec.quantities) {
+          const std::string qn = quantity_name(q);
+          const double k = display_scale(qn);
+          std::vector<double> est, truth, secs;
+          double heap = std::nan("");
+          int n = 0;
+          for (const auto& cr : cases) {
+            if (cr.condition != static_cast<int>(c)) continue;
+            for (const auto& r : cr.rows) {
+              if (r.estimator != spec.name || r.quantity != qn || r.roi != roi) continue;
+              ++n;
+              if (cr.ok) secs.push_back(r.seconds);
+              if (r.peak_heap_mb >= 0) heap = std::isnan(heap) ? r.peak_heap_mb : std::max(heap, r.peak_heap_mb);
+              if (r.ok) {
+                est.push_back(r.estimate * k);
+                truth.push_back(r.truth * k);
+              }
             }
           }
+          out.push_back({static_cast<int>(c), roi.empty() ? spec.name : spec.name + "@" + roi, spec.type, qn,
+                         score(est, truth, n, secs), heap});
         }
-        out.push_back({static_cast<int>(c), spec.name, spec.type, qn, score(est, truth, n, secs), heap});
       }
     }
   }

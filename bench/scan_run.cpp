@@ -34,7 +34,7 @@ std::vector<ScanSummary> run_scans(const Scene& scene, const ScanRunOptions& o) 
     const GroundTruth truth = compute_ground_truth(bunch, job.params.density);
     const BunchRecord rec{job.preset, job.seed, job.index, job.params, report};
     write_file_atomic(dir / "ground_truth.json", ground_truth_json(bunch, truth, rec).dump(1) + "\n");
-    const RayScene rays(bunch);
+    const RayScene rays = scene_rays(scene, bunch, job.seed);
     // The scan draws from its own stream, independent of the generator's.
     const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
     write_scan(scan, dir, stem);

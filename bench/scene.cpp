@@ -30,7 +30,22 @@ nlohmann::ordered_json PipelineSpec::describe() const {
           {"group_size", group_size},
           {"bottom_band_m", bottom_band},
           {"angle_error_sd_deg", angle_error_sd_deg},
-          {"min_points", min_points}};
+          {"min_points", min_points},
+          {"single_frame",
+           {{"rois", rois},
+            {"fine_tune", fine_tune},
+            {"manual_min_berry_points", manual_min_berry_points},
+            {"detection_clusters", roi.detection_clusters},
+            {"separation_clusters", roi.separation_clusters},
+            {"rule", roi.rule == GrapeColourRule::Red ? "red" : "black"},
+            {"n_min", roi.n_min},
+            {"d_min", roi.d_min},
+            {"d_max", roi.d_max},
+            {"i_min", roi.i_min},
+            {"cluster_tolerance_m", roi.clusters.tolerance},
+            {"cluster_min_points", roi.clusters.min_points},
+            {"roi_radius_m", roi.roi_radius},
+            {"kmeans_seed", roi.seed}}}};
 }
 
 namespace {
@@ -48,7 +63,34 @@ PipelineSpec read_pipeline(const ConfigNode& n) {
     }
   }
   p.registration =
-      n.get_choice("registration", p.registration, {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp"});
+      n.get_choice("registration", p.registration,
+                   {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp", "single_frame"});
+  if (n.has("rois")) {
+    p.rois = n.get_string_list("rois", 1);
+    for (const auto& r : p.rois) {
+      if (r != "auto_r" && r != "auto_cm" && r != "manual_r" && r != "manual_cm") {
+        n.fail("rois", "unknown ROI '" + r + "'; allowed: auto_r, auto_cm, manual_r, manual_cm");
+      }
+    }
+  }
+  p.fine_tune = n.get_bool("fine_tune", p.fine_tune);
+  p.manual_min_berry_points =
+      static_cast<int>(n.get_int("manual_min_berry_points", p.manual_min_berry_points, 1, 100000000));
+  if (n.has("roi")) {
+    const ConfigNode r = n.child("roi");
+    Seed003RoiParams& q = p.roi;
+    q.detection_clusters = static_cast<int>(r.get_int("detection_clusters", q.detection_clusters, 1, 64));
+    q.separation_clusters = static_cast<int>(r.get_int("separation_clusters", q.separation_clusters, 1, 64));
+    q.rule = r.get_choice("rule", "red", {"red", "black"}) == "red" ? GrapeColourRule::Red : GrapeColourRule::Black;
+    q.n_min = r.get_real("n_min", q.n_min, -1, 1);
+    q.d_min = r.get_real("d_min", q.d_min, -1, 1);
+    q.d_max = r.get_real("d_max", q.d_max, -1, 1);
+    q.i_min = r.get_real("i_min", q.i_min, -1, 1);
+    q.clusters.tolerance = r.get_real("cluster_tolerance", q.clusters.tolerance, 1e-4, 1);
+    q.clusters.min_points = static_cast<int>(r.get_int("cluster_min_points", q.clusters.min_points, 1, 100000000));
+    q.roi_radius = r.get_real("radius", q.roi_radius, 0.01, 2);
+    q.seed = r.get_seed("kmeans_seed", q.seed);
+  }
   if (n.has("icp")) {
     const ConfigNode i = n.child("icp");
     p.icp.max_correspondence_distance =
@@ -123,6 +165,7 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
   if (root.has("sensor")) s.sensor = make_sensor(root.child("sensor"));
   if (root.has("rig")) s.rig = make_rig(root.child("rig"));
   if (root.has("background")) s.background = read_background(root.child("background"));
+  if (root.has("foliage")) s.foliage = read_foliage(root.child("foliage"));
   if (s.rig && !s.sensor) root.fail("rig", "a rig needs a `sensor:` section");
   if (root.has("pipeline")) s.pipeline = read_pipeline(root.child("pipeline"));
   if (root.has("estimators")) s.estimators = read_estimators(root);
@@ -131,7 +174,19 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
     const ConfigNode sweep = root.child("sweep");
     for (const auto& kv : sweep.yaml()) {
       const std::string key = kv.first.as<std::string>();
-      s.sweep.push_back({key, sweep_values(sweep, key)});
+      const YAML::Node list = kv.second;
+      bool named = list.IsSequence() && list.size() > 0;
+      for (std::size_t i = 0; named && i < list.size(); ++i) {
+        double ignored;
+        named = list[i].IsScalar() && !YAML::convert<double>::decode(list[i], ignored);
+      }
+      if (named) {
+        SweepAxis axis{key, {}, sweep.get_string_list(key, 1)};
+        for (std::size_t i = 0; i < axis.names.size(); ++i) axis.values.push_back(static_cast<double>(i));
+        s.sweep.push_back(std::move(axis));
+      } else {
+        s.sweep.push_back({key, sweep_values(sweep, key), {}});
+      }
     }
     if (s.sweep.empty()) root.fail("sweep", "the mapping is empty");
   }
@@ -240,7 +295,7 @@ SceneSet expand(const std::string& text, const std::string& name) {
       substitute(doc, axis.key, value, sweep_line);
       const auto dot = axis.key.rfind('.');
       c.label += (c.label.empty() ? "" : " ") + axis.key.substr(dot == std::string::npos ? 0 : dot + 1) + "=" +
-                 number_label(v);
+                 (axis.names.empty() ? number_label(v) : axis.names[idx[a]]);
     }
     try {
       c.scene = read_scene(ConfigNode::from_yaml(doc, name), name);
@@ -267,6 +322,30 @@ SceneSet load_scene_set(const std::string& path) {
 
 Scene parse_scene(const std::string& text, const std::string& name) {
   return read_scene(ConfigNode::load_string(text, name), name);
+}
+
+RayScene scene_rays(const Scene& scene, const Bunch& bunch, std::uint64_t bunch_seed) {
+  if (!scene.foliage) return RayScene(bunch);
+  return RayScene(bunch, std::nullopt, generate_foliage(*scene.foliage, bunch, derive_seed(bunch_seed, 0x1eaf)));
+}
+
+nlohmann::ordered_json foliage_json(const FoliageParams& p) {
+  auto rgb = [](const Rgb& c) { return nlohmann::ordered_json{c.r, c.g, c.b}; };
+  return {{"leaves", p.leaves},
+          {"leaf_radius_m", p.leaf_radius},
+          {"leaf_radius_sd_m", p.leaf_radius_sd},
+          {"row_half_length_m", p.row_half_length},
+          {"canopy_depth_m", p.canopy_depth},
+          {"canopy_below_m", p.canopy_below},
+          {"canopy_above_m", p.canopy_above},
+          {"clearance_m", p.clearance},
+          {"occlusion", p.occlusion},
+          {"cordon_radius_m", p.cordon_radius},
+          {"shoots", p.shoots},
+          {"shoot_radius_m", p.shoot_radius},
+          {"leaf_colour", rgb(p.leaf_colour)},
+          {"leaf_colour_sd", p.leaf_colour_sd},
+          {"cane_colour", rgb(p.cane_colour)}};
 }
 
 std::vector<BunchJob> bunch_jobs(const Scene& scene) {

@@ -3,12 +3,15 @@
 
 #include "algorithms/registration.h"
 #include "algorithms/registry.h"
+#include "algorithms/seed003_roi.h"
 #include "sensors/rig.h"
 #include "sensors/sensor.h"
+#include "synth/foliage.h"
 #include "synth/params.h"
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,8 +40,18 @@ struct PipelineSpec {
   std::string segmentation = "labels";
   std::vector<FilterSpec> view_filters;
   std::vector<FilterSpec> cloud_filters;
-  // true_poses | seed000_pca_icp | known_angle_icp | plain_icp
+  // true_poses | seed000_pca_icp | known_angle_icp | plain_icp | single_frame.
+  // single_frame (seed 003): no registration; every view is measured alone: its
+  // returns (segmentation none) go through view_filters (the pass-through), then each
+  // ROI of `rois` is fine-tuned and the estimators run on it (rows per frame and ROI).
   std::string registration = "true_poses";
+  // single_frame: auto_r (ROI_R^A), auto_cm (ROI_CM from it, Eq. 2), manual_r (ROI_R^M:
+  // the annotator's region, here perfect: the returns labelled berry, pedicel or
+  // rachis), manual_cm.
+  std::vector<std::string> rois{"auto_r", "auto_cm", "manual_r", "manual_cm"};
+  Seed003RoiParams roi;
+  bool fine_tune = true;         // single_frame: the fine-tuning step on every ROI
+  int manual_min_berry_points = 100;  // single_frame: fewer visible berry returns, no label, [1, 1e8]
   IcpParams icp;
   int group_size = 3;              // seed000_pca_icp: views per group, [1, 360]
   double bottom_band = 0.03;       // known_angle_icp: lowest band for the bottom view, m, [0.001, 0.5]
@@ -57,9 +70,12 @@ struct EstimatorSpec {
 
 // One swept parameter: a dotted path into the scene ("sensor.noise_scale",
 // "bunches.compactness" for every group, "estimators[1].alpha") and its values.
+// A list of strings ("background.type: [none, cloth]") sweeps names: `names` holds
+// them and `values` their positions 0, 1, ...
 struct SweepAxis {
   std::string key;
   std::vector<double> values;
+  std::vector<std::string> names;  // empty for a numeric axis
 };
 
 struct Scene {
@@ -72,6 +88,8 @@ struct Scene {
   std::shared_ptr<const Sensor> sensor;
   std::shared_ptr<const Rig> rig;
   BackgroundSpec background;
+  // Leaves and canes around each bunch (section `foliage:`, the vine-row scene).
+  std::optional<FoliageParams> foliage;
   PipelineSpec pipeline;
   std::vector<EstimatorSpec> estimators;
   std::vector<SweepAxis> sweep;  // as written; each Condition below is one point
@@ -106,5 +124,9 @@ Scene parse_scene(const std::string& text, const std::string& name);
 SceneSet load_scene_set(const std::string& path);
 SceneSet parse_scene_set(const std::string& text, const std::string& name);
 std::vector<BunchJob> bunch_jobs(const Scene& scene);
+// The ray scene of one bunch of `scene`: the bunch, and its foliage when the scene has
+// a `foliage:` section (drawn from the bunch's seed, its own stream).
+RayScene scene_rays(const Scene& scene, const Bunch& bunch, std::uint64_t bunch_seed);
+nlohmann::ordered_json foliage_json(const FoliageParams& p);
 
 }  // namespace grapebench

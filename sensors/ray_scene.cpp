@@ -158,12 +158,25 @@ RayScene::State::~State() {
   if (device) rtcReleaseDevice(device);
 }
 
-RayScene::RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background)
+RayScene::RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background, const Foliage& foliage)
     : state_(std::make_shared<State>()), background_(background) {
   State& st = *state_;
   st.bunch = bunch;
+  st.foliage = foliage;
   st.stems = bunch.stems;
-  if (bunch.berries.empty() && bunch.stems.empty() && !background_) {
+  st.stems.insert(st.stems.end(), foliage.canes.begin(), foliage.canes.end());
+  for (const auto& t : foliage.triangles) {
+    for (int v : t) {
+      if (v < 0 || static_cast<std::size_t>(v) >= foliage.vertices.size()) {
+        throw InputError("ray scene: a leaf triangle names vertex " + std::to_string(v) + " of " +
+                         std::to_string(foliage.vertices.size()));
+      }
+    }
+  }
+  if (foliage.triangle_colour.size() != foliage.triangles.size()) {
+    throw InputError("ray scene: leaf triangles and their colours differ in count");
+  }
+  if (bunch.berries.empty() && st.stems.empty() && foliage.triangles.empty() && !background_) {
     throw InputError("ray scene: nothing to see (empty bunch and no background)");
   }
   st.device = rtcNewDevice("verbose=0");
@@ -200,9 +213,26 @@ RayScene::RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background
     st.stem_geom = rtcAttachGeometry(st.scene, g);
     rtcReleaseGeometry(g);
   }
+  if (!foliage.triangles.empty()) {
+    RTCGeometry g = rtcNewGeometry(st.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), foliage.vertices.size()));
+    for (std::size_t i = 0; i < foliage.vertices.size(); ++i) {
+      for (int a = 0; a < 3; ++a) v[3 * i + a] = static_cast<float>(foliage.vertices[i][a]);
+    }
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), foliage.triangles.size()));
+    for (std::size_t i = 0; i < foliage.triangles.size(); ++i) {
+      for (int a = 0; a < 3; ++a) idx[3 * i + a] = static_cast<unsigned>(foliage.triangles[i][a]);
+    }
+    rtcCommitGeometry(g);
+    st.triangle_geom = rtcAttachGeometry(st.scene, g);
+    rtcReleaseGeometry(g);
+  }
   rtcCommitScene(st.scene);
   if (!st.last_error.empty()) throw InputError("ray scene: " + st.last_error);
 
+  // The rigs aim at the bunch; the sensors trace every pixel that can see anything.
   Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
   for (const auto& b : bunch.berries) {
     lo = lo.cwiseMin(b.centre - Vec3::Constant(b.radius));
@@ -213,6 +243,18 @@ RayScene::RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background
     hi = hi.cwiseMax(s.start.cwiseMax(s.end) + Vec3::Constant(s.radius));
   }
   if (bunch.berries.empty() && bunch.stems.empty()) lo = hi = Vec3::Zero();
+  bunch_centre_ = 0.5 * (lo + hi);
+  bunch_radius_ = 0.5 * (hi - lo).norm();
+  if (bunch.berries.empty() && bunch.stems.empty()) lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+  for (const auto& s : foliage.canes) {
+    lo = lo.cwiseMin(s.start.cwiseMin(s.end) - Vec3::Constant(s.radius));
+    hi = hi.cwiseMax(s.start.cwiseMax(s.end) + Vec3::Constant(s.radius));
+  }
+  for (const auto& v : foliage.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  if (lo.x() > hi.x()) lo = hi = Vec3::Zero();
   centre_ = 0.5 * (lo + hi);
   radius_ = 0.5 * (hi - lo).norm();
 }
@@ -258,7 +300,27 @@ void RayScene::refine(const Ray& ray, unsigned geom, unsigned prim, double t_flo
     h.colour = b.colour;
     return;
   }
-  const Stem& s = state_->bunch.stems[prim];
+  if (geom == state_->triangle_geom) {
+    // Exact in double against the triangle's plane.
+    const auto& tri = state_->foliage.triangles[prim];
+    const Vec3& a = state_->foliage.vertices[static_cast<std::size_t>(tri[0])];
+    const Vec3 n = (state_->foliage.vertices[static_cast<std::size_t>(tri[1])] - a)
+                       .cross(state_->foliage.vertices[static_cast<std::size_t>(tri[2])] - a)
+                       .normalized();
+    const double denom = n.dot(ray.direction);
+    double t = std::abs(denom) > 1e-12 ? n.dot(a - ray.origin) / denom : t_float;
+    if (!(t > 0)) t = t_float;
+    h.t = t;
+    h.point = ray.origin + t * ray.direction;
+    h.normal = denom < 0 ? n : Vec3(-n);  // leaves are two-sided
+    h.cos_incidence = std::abs(denom);
+    h.part = Part::Leaf;
+    h.berry = -1;
+    h.primitive = static_cast<int>(prim);
+    h.colour = state_->foliage.triangle_colour[prim];
+    return;
+  }
+  const Stem& s = state_->stems[prim];
   double t;
   Vec3 n;
   if (!ray_cylinder(s, ray.origin, ray.direction, 0.0, t, n)) return;
@@ -269,7 +331,7 @@ void RayScene::refine(const Ray& ray, unsigned geom, unsigned prim, double t_flo
   h.part = s.part;
   h.berry = s.berry;
   h.primitive = static_cast<int>(prim);
-  h.colour = state_->bunch.stem_colour;
+  h.colour = s.part == Part::Cane ? state_->foliage.cane_colour : state_->bunch.stem_colour;
 }
 
 void RayScene::set_miss(Hit& h) {

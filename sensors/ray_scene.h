@@ -5,6 +5,7 @@
 // rays that can only reach the plane never enter Embree.
 #pragma once
 
+#include "synth/foliage.h"
 #include "synth/types.h"
 
 #include <embree3/rtcore.h>
@@ -55,7 +56,10 @@ struct PixelRays {
 
 class RayScene {
  public:
-  explicit RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background = std::nullopt);
+  // `foliage` (leaves as triangles, canes as exact cylinders) only occludes and
+  // returns Leaf / Cane hits.
+  explicit RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background = std::nullopt,
+                    const Foliage& foliage = Foliage{});
   // The same Embree scene (shared, not rebuilt) with another background.
   RayScene with_background(std::optional<BackgroundPlane> background) const;
 
@@ -76,7 +80,8 @@ class RayScene {
 
   // The background plane alone (analytic); a miss when there is none.
   Hit background_hit(const Ray& ray) const { return plane_hit(ray); }
-  bool has_bunch() const { return !state_->bunch.berries.empty() || !state_->bunch.stems.empty(); }
+  // Whether Embree holds anything (bunch or foliage): else only the plane can be hit.
+  bool has_bunch() const { return !state_->bunch.berries.empty() || !state_->stems.empty() || !state_->foliage.triangles.empty(); }
 
   // Raw Embree cast of the same packets with no refinement or labels: the
   // reference loop the sensor models are benchmarked against.
@@ -84,9 +89,13 @@ class RayScene {
 
   const Bunch& bunch() const { return state_->bunch; }
   const std::optional<BackgroundPlane>& background() const { return background_; }
-  // Bounding sphere of the bunch (centre, radius), m.
+  // Bounding sphere of everything Embree holds (bunch and foliage), m: the pixels the
+  // sensors trace.
   Vec3 bounds_centre() const { return centre_; }
   double bounds_radius() const { return radius_; }
+  // Bounding sphere of the bunch alone, m: what the rigs aim at.
+  Vec3 bunch_centre() const { return bunch_centre_; }
+  double bunch_radius() const { return bunch_radius_; }
 
  private:
   void refine(const Ray& ray, unsigned geom, unsigned prim, double t, Hit& hit) const;
@@ -99,10 +108,12 @@ class RayScene {
   // The Embree device and scene with everything they point to; released together.
   struct State {
     Bunch bunch;
+    Foliage foliage;
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
-    unsigned sphere_geom = RTC_INVALID_GEOMETRY_ID, stem_geom = RTC_INVALID_GEOMETRY_ID;
-    std::vector<Stem> stems;  // user data of the stem geometry
+    unsigned sphere_geom = RTC_INVALID_GEOMETRY_ID, stem_geom = RTC_INVALID_GEOMETRY_ID,
+             triangle_geom = RTC_INVALID_GEOMETRY_ID;
+    std::vector<Stem> stems;  // user data of the stem geometry: the bunch's, then the canes
     std::string last_error;   // written by Embree's error callback
     ~State();
   };
@@ -110,8 +121,8 @@ class RayScene {
 
   std::shared_ptr<State> state_;
   std::optional<BackgroundPlane> background_;
-  Vec3 centre_ = Vec3::Zero();
-  double radius_ = 0;
+  Vec3 centre_ = Vec3::Zero(), bunch_centre_ = Vec3::Zero();
+  double radius_ = 0, bunch_radius_ = 0;
 };
 
 }  // namespace grapebench

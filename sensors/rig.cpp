@@ -70,9 +70,11 @@ class RobotPass : public Rig {
     // The row runs along x through the bunch; the robot drives along y = -distance.
     std::vector<RigView> out;
     for (int k = 0; k < p_.frames; ++k) {
-      const double x = centre.x() + (k - 0.5 * (p_.frames - 1)) * p_.spacing;
-      const Vec3 eye(x, centre.y() - p_.distance, centre.z() + p_.height_offset);
+      // A turned camera (seed 003's left/right views, 45 deg about its y axis) sees the
+      // bunch in the pass's middle frame: the pass is shifted by distance tan(yaw).
       const double yaw = p_.yaw_deg * kDeg;
+      const double x = centre.x() - p_.distance * std::tan(yaw) + (k - 0.5 * (p_.frames - 1)) * p_.spacing;
+      const Vec3 eye(x, centre.y() - p_.distance, centre.z() + p_.height_offset);
       const Vec3 forward(std::sin(yaw), std::cos(yaw), 0);
       RigView v{numbered("frame", k), look_at(eye, eye + forward), 0, std::nullopt};
       if (bg.type != "none") {

@@ -20,7 +20,7 @@ Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, con
   scan.background = {{"type", background.type}, {"distance_m", background.distance},
                      {"colour", {background.colour.r, background.colour.g, background.colour.b}},
                      {"albedo", background.albedo}};
-  const auto views = rig.views(scene.bounds_centre(), scene.bounds_radius(), background);
+  const auto views = rig.views(scene.bunch_centre(), scene.bunch_radius(), background);
   for (std::size_t k = 0; k < views.size(); ++k) {
     ScanView v;
     v.rig = views[k];

@@ -418,6 +418,8 @@ std::string_view part_name(Part p) {
     case Part::Rachis: return "rachis";
     case Part::Peduncle: return "peduncle";
     case Part::Background: return "background";
+    case Part::Leaf: return "leaf";
+    case Part::Cane: return "cane";
     case Part::None: return "none";
   }
   return "unknown";

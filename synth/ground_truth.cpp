@@ -167,6 +167,10 @@ GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
   const auto [zlo, zhi] = extent(Vec3::UnitZ());
   g.height = zhi - zlo;
   g.height_from_cutting_point = bunch.cutting_point.z() - zlo;
+  const auto [xlo, xhi] = extent(Vec3::UnitX());
+  const auto [ylo, yhi] = extent(Vec3::UnitY());
+  g.row_width = xhi - xlo;
+  g.row_depth = yhi - ylo;
 
   // Maximum diameter about the vertical through the cutting point.
   const Eigen::Vector2d axis_xy = bunch.cutting_point.head<2>();

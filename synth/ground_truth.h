@@ -52,6 +52,11 @@ struct GroundTruth {
   double height = 0;
   double height_from_cutting_point = 0;
   double max_diameter = 0;
+  // Hanging in a vine row along x, seen from -y (seed 003's robot pass; its ground
+  // truth is "length and width at the longest and widest points"): the extents of the
+  // bunch without its peduncle along x (width, across the camera's view) and y (depth);
+  // its length is `height`.
+  double row_width = 0, row_depth = 0;
   // Envelope: convex hull of the solid, bracketed by an inscribed and a
   // circumscribed polytope; the value is their midpoint.
   double envelope_volume = 0;

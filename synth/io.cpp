@@ -84,7 +84,9 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g,
                       {"width_axis", g.section_perimeter[2]}}}};
   j["hanging_frame"] = {{"height_m", g.height},
                         {"height_from_cutting_point_m", g.height_from_cutting_point},
-                        {"max_diameter_m", g.max_diameter}};
+                        {"max_diameter_m", g.max_diameter},
+                        {"row_width_m", g.row_width},
+                        {"row_depth_m", g.row_depth}};
   j["envelope"] = {{"definition", "convex hull of the solid"},
                    {"volume_m3", g.envelope_volume},
                    {"lower_bound_m3", g.envelope_lower},

@@ -237,6 +237,8 @@ Rgb label_colour(Part part, int berry) {
     case Part::Rachis: return {0.20f, 0.60f, 0.15f};
     case Part::Peduncle: return {0.50f, 0.32f, 0.12f};
     case Part::Background: return {0.55f, 0.55f, 0.55f};
+    case Part::Leaf: return {0.10f, 0.45f, 0.10f};
+    case Part::Cane: return {0.40f, 0.28f, 0.16f};
     case Part::None: return {0, 0, 0};
   }
   return {1, 1, 1};

@@ -22,6 +22,8 @@ enum class Part : std::uint8_t {
   Rachis = 2,
   Peduncle = 3,
   Background = 4,  // scene elements added by sensors/ (plane, plate)
+  Leaf = 5,        // vine-row scenes (synth/foliage.h)
+  Cane = 6,
   None = 255,      // no return
 };
 inline constexpr std::array<Part, 4> kAllParts{Part::Berry, Part::Pedicel, Part::Rachis,

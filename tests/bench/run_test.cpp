@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -289,6 +290,85 @@ TEST(External, TheOpen3dExampleRunsThroughTheProtocol) {
   const std::string m = error_of(std::string(kScene) + "  - type: external\n    quantities: [mass]\n    command: [x]\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("unknown quantity 'mass'"), std::string::npos) << m;
+}
+
+// Seed 003's single-frame pipeline: rows per frame and ROI kind, the perfect manual
+// ROI exactly on the bunch, Err (Eq. 3) recomputed from the rows, a named sweep axis.
+TEST(Run, SingleFramePipelineGivesTableTwoFromItsRows) {
+  const std::string scene = R"(name: frames
+seed: 3
+bunches:
+  - preset: table-red
+    count: 2
+sensor:
+  type: d435
+rig:
+  type: robot_pass
+  frames: 2
+  spacing: 0.1
+  distance: 1.5
+background:
+  type: cloth
+  distance: 0.4
+  colour: [0.03, 0.03, 0.03]
+foliage:
+  leaves: 20
+pipeline:
+  segmentation: none
+  registration: single_frame
+  fine_tune: false
+  view_filters:
+    - type: pass_through
+      min: [-1, -1000, 0.3]
+      max: [1, 1000, 2.5]
+estimators:
+  - {type: percentile_box_edges, name: G_E}
+sweep:
+  background.type: [none, cloth]
+)";
+  const fs::path out = fresh_dir("frames");
+  const SceneSet set = parse_scene_set(scene, "frames.yaml");
+  ASSERT_EQ(set.conditions.size(), 2u);
+  EXPECT_EQ(set.conditions[1].label, "type=cloth");
+  const RunOutcome r = run_scene_set(set, quiet(out));
+  ASSERT_TRUE(r.complete);
+  // Recompute Err of manual_r from results.csv and compare with size_error.csv.
+  std::istringstream csv(slurp(out / "results.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::map<std::string, double> half_err;  // frame key -> sum of 0.5 |e - t|
+  int manual_rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream ls(line);
+    for (std::string x; std::getline(ls, x, ',');) f.push_back(x);
+    // scene,condition,type,bunch,preset,seed,estimator,type,quantity,unit,estimate,truth,error,rel,ok,wt,points,
+    // rot,trans,message,frame,roi,region,region_points,region_precision
+    ASSERT_EQ(f.size(), 25u) << line;
+    if (f[21] != "manual_r" || f[1] != "type=cloth" || f[8] == "volume") continue;
+    ++manual_rows;
+    EXPECT_EQ(f[24], "1") << "the perfect manual ROI holds only bunch points: " << line;
+    half_err[f[3] + "/" + f[20]] += 0.5 * std::abs(std::stod(f[12])) / 1e3;  // mm -> m
+  }
+  EXPECT_EQ(manual_rows, 2 * 2 * 2);  // bunches x frames x (major, minor)
+  double sum = 0;
+  for (const auto& [k, e] : half_err) sum += e;
+  const std::string table = slurp(out / "size_error.csv");
+  std::istringstream t(table);
+  std::getline(t, line);
+  bool found = false;
+  while (std::getline(t, line)) {
+    if (line.rfind("\"type=cloth\",G_E,manual_r,", 0) != 0) continue;
+    std::vector<std::string> f;
+    std::stringstream ls(line);
+    for (std::string x; std::getline(ls, x, ',');) f.push_back(x);
+    EXPECT_EQ(f[3], "4");
+    EXPECT_NEAR(std::stod(f[5]), 100 * sum / 4, 1e-3);  // cm
+    found = true;
+  }
+  EXPECT_TRUE(found) << table;
+  EXPECT_NE(slurp(out / "report.html").find("seed 003 Table II"), std::string::npos);
+  EXPECT_FALSE(slurp(out / "size_error_table.md").empty());
 }
 
 }  // namespace

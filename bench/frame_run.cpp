@@ -1,0 +1,106 @@
+#include "bench/frame_run.h"
+
+#include "algorithms/ndi_kmeans.h"
+
+#include <algorithm>
+
+namespace grapebench {
+
+namespace {
+
+bool on_bunch(std::uint8_t label) { return label <= static_cast<std::uint8_t>(Part::Peduncle); }
+
+// ROI_R^M: the annotator's region, here perfect: the frame's filtered returns on the
+// cluster (berries, pedicels, rachis; not the peduncle). Empty when fewer than
+// `min_berries` berry returns are visible (the annotator finds no cluster).
+Region manual_region(const std::vector<std::uint8_t>& label, int min_berries) {
+  Region out;
+  int berries = 0;
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    berries += label[i] == static_cast<std::uint8_t>(Part::Berry);
+    if (label[i] <= static_cast<std::uint8_t>(Part::Rachis)) out.push_back(static_cast<Eigen::Index>(i));
+  }
+  if (berries < min_berries) out.clear();
+  return out;
+}
+
+}  // namespace
+
+void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt, CaseResult& r) {
+  const PipelineSpec& pl = scene.pipeline;
+  const auto wants = [&](const char* kind) { return std::find(pl.rois.begin(), pl.rois.end(), kind) != pl.rois.end(); };
+  std::size_t auto_kept = 0, auto_bunch = 0, frame_bunch = 0;
+  r.points = 0;
+  for (std::size_t k = 0; k < scan.views.size(); ++k) {
+    const OrganisedCloud& c = scan.views[k].cloud;
+    // Every return of the frame (the paper's point cloud), then the view filters with
+    // each point's pixel carried along.
+    std::vector<Vec3> pts;
+    std::vector<std::size_t> pixel;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (!c.valid[i]) continue;
+      pts.push_back(c.xyz[i].cast<double>());
+      pixel.push_back(i);
+    }
+    PointCloud cloud = to_point_cloud(pts);
+    apply_filters(pl.view_filters, cloud, pixel);
+    std::vector<std::uint8_t> label(pixel.size());
+    std::vector<Rgb8> rgb(pixel.size());
+    for (std::size_t i = 0; i < pixel.size(); ++i) {
+      label[i] = c.label[pixel[i]];
+      rgb[i] = c.rgb[pixel[i]];
+      frame_bunch += on_bunch(label[i]);
+    }
+    r.points += pixel.size();
+
+    // The rough regions of each kind asked for, numbered within the frame.
+    struct Roi {
+      std::string kind;
+      int index;
+      Region region;
+    };
+    std::vector<Roi> rois;
+    if (wants("auto_r") || wants("auto_cm")) {
+      const Seed003Detection det = detect_grape_regions(cloud, rgb, pl.roi);
+      for (std::size_t j = 0; j < det.regions.size(); ++j) {
+        if (wants("auto_r")) rois.push_back({"auto_r", static_cast<int>(j), det.regions[j]});
+        if (wants("auto_cm")) {
+          rois.push_back({"auto_cm", static_cast<int>(j), roi_from_centre_of_mass(cloud, det.regions[j], pl.roi.roi_radius)});
+        }
+      }
+    }
+    if (wants("manual_r") || wants("manual_cm")) {
+      const Region m = manual_region(label, pl.manual_min_berry_points);
+      if (!m.empty()) {
+        if (wants("manual_r")) rois.push_back({"manual_r", 0, m});
+        if (wants("manual_cm")) rois.push_back({"manual_cm", 0, roi_from_centre_of_mass(cloud, m, pl.roi.roi_radius)});
+      }
+    }
+
+    for (const Roi& roi : rois) {
+      const Region tuned = pl.fine_tune ? fine_tune_region(cloud, rgb, roi.region, pl.roi) : roi.region;
+      PointCloud sub(static_cast<Eigen::Index>(tuned.size()), 3);
+      std::size_t bunch = 0;
+      for (std::size_t i = 0; i < tuned.size(); ++i) {
+        sub.row(static_cast<Eigen::Index>(i)) = cloud.row(tuned[i]);
+        bunch += on_bunch(label[static_cast<std::size_t>(tuned[i])]);
+      }
+      if (roi.kind == "auto_r") {
+        auto_kept += tuned.size();
+        auto_bunch += bunch;
+      }
+      const std::string error = tuned.empty() ? "fine tuning found no grape-coloured cluster in the ROI" : "";
+      for (EstimateRow row : run_estimators(scene.estimators, sub, gt, error)) {
+        row.frame = static_cast<int>(k);
+        row.roi = roi.kind;
+        row.region = roi.index;
+        row.region_precision = tuned.empty() ? 0 : static_cast<double>(bunch) / static_cast<double>(tuned.size());
+        r.rows.push_back(std::move(row));
+      }
+    }
+  }
+  r.segmentation_precision = auto_kept ? static_cast<double>(auto_bunch) / static_cast<double>(auto_kept) : 0;
+  r.segmentation_recall = frame_bunch ? static_cast<double>(auto_bunch) / static_cast<double>(frame_bunch) : 0;
+}
+
+}  // namespace grapebench

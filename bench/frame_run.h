@@ -1,0 +1,19 @@
+// Seed 003's single-frame measurement (pipeline.registration: single_frame): every view
+// of a scan is measured alone, as the paper does with each RealSense frame.
+#pragma once
+
+#include "bench/case_run.h"
+#include "sensors/scan.h"
+
+namespace grapebench {
+
+// Per view: the valid returns with their colours, the scene's view_filters (seed 003's
+// pass-through), then each ROI kind of pipeline.rois (automatic detection, manual
+// label box, each as is or widened about its centre of mass by Eq. 2), the fine-tuning
+// step, and every estimator on the tuned region. Appends one row per estimator
+// quantity, frame, ROI kind and region to r.rows; r.points counts the filtered returns
+// and r.segmentation_precision / recall score the tuned automatic regions against the
+// labels.
+void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt, CaseResult& r);
+
+}  // namespace grapebench

@@ -1,0 +1,135 @@
+#include "synth/foliage.h"
+
+#include "synth/rng.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace grapebench {
+
+FoliageParams read_foliage(const ConfigNode& n) {
+  FoliageParams p;
+  p.leaves = static_cast<int>(n.get_int("leaves", p.leaves, 0, 2000));
+  p.leaf_radius = n.get_real("leaf_radius", p.leaf_radius, 0.01, 0.3);
+  p.leaf_radius_sd = n.get_real("leaf_radius_sd", p.leaf_radius_sd, 0, 0.1);
+  p.row_half_length = n.get_real("row_half_length", p.row_half_length, 0.05, 5);
+  p.canopy_depth = n.get_real("canopy_depth", p.canopy_depth, 0, 2);
+  p.canopy_below = n.get_real("canopy_below", p.canopy_below, 0, 2);
+  p.canopy_above = n.get_real("canopy_above", p.canopy_above, 0, 2);
+  p.clearance = n.get_real("clearance", p.clearance, 0, 0.5);
+  p.occlusion = n.get_real("occlusion", p.occlusion, 0, 1);
+  p.cordon_radius = n.get_real("cordon_radius", p.cordon_radius, 0.002, 0.05);
+  p.shoots = static_cast<int>(n.get_int("shoots", p.shoots, 0, 100));
+  p.shoot_radius = n.get_real("shoot_radius", p.shoot_radius, 0.002, 0.05);
+  auto colour = [&](const char* key, Rgb& c) {
+    if (!n.has(key)) return;
+    const auto v = n.get_real_list(key, 3, 0, 1);
+    c = {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+  };
+  colour("leaf_colour", p.leaf_colour);
+  p.leaf_colour_sd = n.get_real("leaf_colour_sd", p.leaf_colour_sd, 0, 1);
+  colour("cane_colour", p.cane_colour);
+  return p;
+}
+
+namespace {
+
+// Distance from segment [a, b] to point x.
+double segment_distance(const Vec3& a, const Vec3& b, const Vec3& x) {
+  const Vec3 ab = b - a;
+  const double t = std::clamp((x - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+  return (a + t * ab - x).norm();
+}
+
+// Whether a disc (centre c, unit normal n, radius r) comes within `gap` of a sphere.
+bool disc_touches_sphere(const Vec3& c, const Vec3& n, double r, const Vec3& centre, double radius, double gap) {
+  const Vec3 d = centre - c;
+  const double h = d.dot(n);             // sphere centre's height above the disc's plane
+  const double rho = (d - h * n).norm();  // and its distance from the disc's axis
+  const double q = std::max(0.0, rho - r);
+  return std::hypot(q, h) < radius + gap;
+}
+
+}  // namespace
+
+Foliage generate_foliage(const FoliageParams& p, const Bunch& bunch, std::uint64_t seed) {
+  Foliage f;
+  f.cane_colour = p.cane_colour;
+  Rng rng(derive_seed(seed, 0xf011a6e));
+  // The bunch's extent, for the canopy box and the clearance test.
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (const auto& b : bunch.berries) {
+    lo = lo.cwiseMin(b.centre - Vec3::Constant(b.radius));
+    hi = hi.cwiseMax(b.centre + Vec3::Constant(b.radius));
+  }
+  if (bunch.berries.empty()) lo = hi = bunch.top;
+  const Vec3 anchor = bunch.peduncle >= 0 ? bunch.stems[static_cast<std::size_t>(bunch.peduncle)].end : bunch.top;
+  const double cx = 0.5 * (lo.x() + hi.x()), cy = 0.5 * (lo.y() + hi.y());
+
+  // The cordon: a horizontal cane along x through the peduncle's end.
+  Stem cordon;
+  cordon.start = anchor - Vec3(p.row_half_length, 0, 0);
+  cordon.end = anchor + Vec3(p.row_half_length, 0, 0);
+  cordon.radius = p.cordon_radius;
+  cordon.part = Part::Cane;
+  f.canes.push_back(cordon);
+  for (int k = 0; k < p.shoots; ++k) {
+    Stem s;
+    const double x = anchor.x() + rng.uniform(-p.row_half_length, p.row_half_length);
+    s.start = Vec3(x, anchor.y(), anchor.z());
+    const Vec3 lean(rng.normal(0, 0.25), rng.normal(0, 0.15), 1);
+    s.end = s.start + (p.canopy_above / lean.z()) * lean;
+    s.radius = p.shoot_radius;
+    s.part = Part::Cane;
+    f.canes.push_back(s);
+  }
+
+  // Leaves: five-lobed outlines r(phi) = R (0.72 + 0.28 cos 5 phi), facing the row's
+  // sides (normal mostly along +-y) with a random tilt; rejected where they would come
+  // closer than `clearance` to a berry or cut a cane. 24 outline points per leaf.
+  const int kOutline = 24;
+  const double z_lo = lo.z() - p.canopy_below, z_hi = anchor.z() + p.canopy_above;
+  int placed = 0;
+  for (int attempt = 0; placed < p.leaves && attempt < 50 * std::max(p.leaves, 1); ++attempt) {
+    const double r = std::max(0.01, rng.normal(p.leaf_radius, p.leaf_radius_sd));
+    const Vec3 c(cx + rng.uniform(-p.row_half_length, p.row_half_length), cy + rng.uniform(-0.5, 0.5) * p.canopy_depth,
+                 rng.uniform(z_lo, z_hi));
+    Vec3 n = Vec3(rng.normal(0, 0.5), rng.uniform() < 0.5 ? -1.0 : 1.0, rng.normal(0, 0.5)).normalized();
+    const bool in_front = c.y() < cy && c.x() + r > lo.x() && c.x() - r < hi.x() && c.z() + r > lo.z() && c.z() - r < hi.z();
+    const double keep = rng.uniform();
+    if (in_front && keep >= p.occlusion) continue;
+    bool clash = false;
+    for (const auto& b : bunch.berries) {
+      if (disc_touches_sphere(c, n, r, b.centre, b.radius, p.clearance)) {
+        clash = true;
+        break;
+      }
+    }
+    for (const auto& s : bunch.stems) clash = clash || segment_distance(s.start, s.end, c) < r + s.radius + p.clearance;
+    for (const auto& s : f.canes) clash = clash || segment_distance(s.start, s.end, c) < s.radius + 0.2 * r;
+    if (clash) continue;
+    // An orthonormal frame in the leaf's plane, spun at random.
+    const Vec3 e1 = n.unitOrthogonal();
+    const Vec3 e2 = n.cross(e1);
+    const double spin = rng.uniform(0, 2 * M_PI);
+    const int base = static_cast<int>(f.vertices.size());
+    f.vertices.push_back(c);
+    for (int k = 0; k < kOutline; ++k) {
+      const double phi = 2 * M_PI * k / kOutline;
+      const double rk = r * (0.72 + 0.28 * std::cos(5 * phi));
+      f.vertices.push_back(c + rk * (std::cos(phi + spin) * e1 + std::sin(phi + spin) * e2));
+    }
+    const double shade = 1 + p.leaf_colour_sd * rng.normal();
+    const Rgb col{static_cast<float>(std::clamp(p.leaf_colour.r * shade, 0.0, 1.0)),
+                  static_cast<float>(std::clamp(p.leaf_colour.g * shade, 0.0, 1.0)),
+                  static_cast<float>(std::clamp(p.leaf_colour.b * shade, 0.0, 1.0))};
+    for (int k = 0; k < kOutline; ++k) {
+      f.triangles.push_back({base, base + 1 + k, base + 1 + (k + 1) % kOutline});
+      f.triangle_colour.push_back(col);
+    }
+    ++placed;
+  }
+  return f;
+}
+
+}  // namespace grapebench

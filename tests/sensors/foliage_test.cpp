@@ -1,0 +1,68 @@
+// The vine-row scene: leaves and canes around a bunch (synth/foliage.h), seen by the
+// ray scene with their own labels and colours.
+#include "sensors/d435.h"
+#include "sensors/ray_scene.h"
+#include "sensors/rig.h"
+#include "synth/foliage.h"
+#include "synth/generate.h"
+
+#include <gtest/gtest.h>
+
+namespace grapebench {
+namespace {
+
+TEST(Foliage, LeavesKeepTheirClearanceAndTheSeedFixesThem) {
+  const Bunch b = generate_bunch(preset("table-red"), 11);
+  FoliageParams p;
+  p.clearance = 0.01;
+  const Foliage f = generate_foliage(p, b, 3);
+  EXPECT_EQ(f.triangles.size(), static_cast<std::size_t>(24 * p.leaves));
+  EXPECT_EQ(f.canes.size(), static_cast<std::size_t>(1 + p.shoots));
+  // Every leaf point (outline and centre) stays outside every berry by the clearance.
+  for (const Vec3& v : f.vertices) {
+    for (const auto& be : b.berries) ASSERT_GE((v - be.centre).norm() - be.radius, p.clearance - 1e-9);
+  }
+  const Foliage again = generate_foliage(p, b, 3);
+  ASSERT_EQ(again.vertices.size(), f.vertices.size());
+  for (std::size_t i = 0; i < f.vertices.size(); ++i) ASSERT_EQ(again.vertices[i], f.vertices[i]);
+  EXPECT_NE(generate_foliage(p, b, 4).vertices.front(), f.vertices.front());
+}
+
+TEST(Foliage, RaysReturnLeafAndCaneLabelsWithTheirColours) {
+  const Bunch b = generate_bunch(preset("table-red"), 11);
+  const Foliage f = generate_foliage(FoliageParams{}, b, 3);
+  const RayScene scene(b, std::nullopt, f);
+  // A ray along the normal at a point inside the first leaf triangle.
+  const Vec3 a = f.vertices[0], bb = f.vertices[1], cc = f.vertices[2];
+  const Vec3 n = (bb - a).cross(cc - a).normalized();
+  const Vec3 c = 0.5 * a + 0.25 * bb + 0.25 * cc;
+  const Hit h = scene.intersect(Ray{c + 0.002 * n, -n});
+  ASSERT_TRUE(h.valid());
+  EXPECT_EQ(h.part, Part::Leaf);
+  EXPECT_NEAR(h.t, 0.002, 1e-12);  // refined in double against the triangle's plane
+  EXPECT_EQ(h.colour.g, f.triangle_colour[0].g);
+  // The cordon, hit from the front.
+  const Stem& cordon = f.canes[0];
+  const Vec3 mid = 0.5 * (cordon.start + cordon.end);
+  const Hit hc = scene.intersect(Ray{mid - Vec3(0, 2, 0), Vec3::UnitY()});
+  ASSERT_TRUE(hc.valid());
+  EXPECT_TRUE(hc.part == Part::Cane || hc.part == Part::Leaf || hc.part <= Part::Peduncle);
+  // A D435 frame of the row sees leaves, canes and the bunch, each labelled.
+  const D435 d435(D435Params{});
+  const auto rig = make_robot_pass(RobotPassParams{});
+  const auto views = rig->views(scene.bunch_centre(), scene.bunch_radius(), BackgroundSpec{});
+  const OrganisedCloud frame = d435.capture(scene, views[views.size() / 2].pose, 1);
+  std::size_t leaf = 0, cane = 0, berry = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    if (!frame.valid[i]) continue;
+    leaf += frame.label[i] == static_cast<std::uint8_t>(Part::Leaf);
+    cane += frame.label[i] == static_cast<std::uint8_t>(Part::Cane);
+    berry += frame.label[i] == static_cast<std::uint8_t>(Part::Berry);
+  }
+  EXPECT_GT(leaf, 1000u);
+  EXPECT_GT(cane, 50u);
+  EXPECT_GT(berry, 300u);
+}
+
+}  // namespace
+}  // namespace grapebench
