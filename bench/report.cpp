@@ -390,10 +390,8 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
           const SizeErrorCell* c = find(e, k, -1);
           if (!c || c->regions == 0) {
             h << "<td>-</td>";
-          } else if (f == 0) {
-            h << "<td>" << fmt(100 * c->mean, 2) << " +- " << fmt(100 * c->sd, 2) << " (" << c->regions << ")</td>";
-          } else if (f == 1) {
-            h << "<td>" << fmt(100 * c->kept_mean, 2) << " +- " << fmt(100 * c->kept_sd, 2) << " (" << c->kept << ")</td>";
+          } else if (f < 2) {
+            h << "<td>" << size_error_entry(*c, f == 1) << "</td>";
           } else {
             h << "<td>" << fmt(c->precision_mean, 3) << "</td>";
           }

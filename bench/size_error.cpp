@@ -97,6 +97,14 @@ std::vector<SizeErrorCell> size_error_cells(const SceneSet& set, const std::vect
   return out;
 }
 
+std::string size_error_entry(const SizeErrorCell& c, bool filtered) {
+  const int n = filtered ? c.kept : c.regions;
+  if (n == 0) return "-";
+  char b[96];
+  std::snprintf(b, sizeof b, "%.1f +- %.1f (%d)", 100 * (filtered ? c.kept_mean : c.mean), 100 * (filtered ? c.kept_sd : c.sd), n);
+  return b;
+}
+
 std::string size_error_table(const std::vector<SizeErrorCell>& cells) {
   const std::vector<std::string> kinds = {"auto_r", "auto_cm", "manual_r", "manual_cm"};
   std::vector<std::string> estimators, present;
@@ -116,7 +124,6 @@ std::string size_error_table(const std::vector<SizeErrorCell>& cells) {
   s << "\n|---|---|";
   for (std::size_t i = 0; i < cols.size(); ++i) s << "---|";
   s << "\n";
-  char b[96];
   for (const auto& e : estimators) {
     for (int filtered = 0; filtered < 2; ++filtered) {
       s << "| " << (filtered ? "" : e) << " | " << (filtered ? "Filter" : "All") << " |";
@@ -125,16 +132,7 @@ std::string size_error_table(const std::vector<SizeErrorCell>& cells) {
         for (const auto& x : cells) {
           if (x.condition == -1 && x.estimator == e && x.roi == k) c = &x;
         }
-        if (!c || (filtered ? c->kept : c->regions) == 0) {
-          s << " - |";
-          continue;
-        }
-        if (filtered) {
-          std::snprintf(b, sizeof b, " %.1f +- %.1f (%d) |", 100 * c->kept_mean, 100 * c->kept_sd, c->kept);
-        } else {
-          std::snprintf(b, sizeof b, " %.1f +- %.1f (%d) |", 100 * c->mean, 100 * c->sd, c->regions);
-        }
-        s << b;
+        s << " " << (c ? size_error_entry(*c, filtered != 0) : "-") << " |";
       }
       s << "\n";
     }

@@ -33,6 +33,10 @@ struct SizeErrorCell {
 std::vector<SizeErrorCell> size_error_cells(const SceneSet& set, const std::vector<CaseResult>& cases,
                                             const SizeErrorParams& p = {});
 
+// One Table II entry, "mean +- sd (n)" in cm: All (filtered false) or Filter; "-" when
+// no ROI counts.
+std::string size_error_entry(const SizeErrorCell& cell, bool filtered);
+
 // Table II's layout (markdown): estimators x (All, Filter) rows, ROI kinds as columns,
 // "mean +- sd cm (n)".
 std::string size_error_table(const std::vector<SizeErrorCell>& cells);

@@ -234,26 +234,17 @@ RayScene::RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background
 
   // The rigs aim at the bunch; the sensors trace every pixel that can see anything.
   Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
-  for (const auto& b : bunch.berries) {
-    lo = lo.cwiseMin(b.centre - Vec3::Constant(b.radius));
-    hi = hi.cwiseMax(b.centre + Vec3::Constant(b.radius));
-  }
-  for (const auto& s : bunch.stems) {
-    lo = lo.cwiseMin(s.start.cwiseMin(s.end) - Vec3::Constant(s.radius));
-    hi = hi.cwiseMax(s.start.cwiseMax(s.end) + Vec3::Constant(s.radius));
-  }
-  if (bunch.berries.empty() && bunch.stems.empty()) lo = hi = Vec3::Zero();
-  bunch_centre_ = 0.5 * (lo + hi);
-  bunch_radius_ = 0.5 * (hi - lo).norm();
-  if (bunch.berries.empty() && bunch.stems.empty()) lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
-  for (const auto& s : foliage.canes) {
-    lo = lo.cwiseMin(s.start.cwiseMin(s.end) - Vec3::Constant(s.radius));
-    hi = hi.cwiseMax(s.start.cwiseMax(s.end) + Vec3::Constant(s.radius));
-  }
-  for (const auto& v : foliage.vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
+  const auto grow = [&](const Vec3& a, const Vec3& b, double r) {
+    lo = lo.cwiseMin(a.cwiseMin(b) - Vec3::Constant(r));
+    hi = hi.cwiseMax(a.cwiseMax(b) + Vec3::Constant(r));
+  };
+  for (const auto& b : bunch.berries) grow(b.centre, b.centre, b.radius);
+  for (const auto& s : bunch.stems) grow(s.start, s.end, s.radius);
+  const bool empty_bunch = bunch.berries.empty() && bunch.stems.empty();
+  bunch_centre_ = empty_bunch ? Vec3::Zero() : Vec3(0.5 * (lo + hi));
+  bunch_radius_ = empty_bunch ? 0 : 0.5 * (hi - lo).norm();
+  for (const auto& s : foliage.canes) grow(s.start, s.end, s.radius);
+  for (const auto& v : foliage.vertices) grow(v, v, 0);
   if (lo.x() > hi.x()) lo = hi = Vec3::Zero();
   centre_ = 0.5 * (lo + hi);
   radius_ = 0.5 * (hi - lo).norm();

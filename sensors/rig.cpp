@@ -169,10 +169,7 @@ BackgroundSpec read_background(const ConfigNode& n) {
   BackgroundSpec b;
   b.type = n.get_choice("type", b.type, {"none", "plate", "cloth"});
   b.distance = n.get_real("distance", b.distance, 0.02, 10);
-  if (n.has("colour")) {
-    const auto c = n.get_real_list("colour", 3, 0, 1);
-    b.colour = {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
-  }
+  b.colour = read_rgb(n, "colour", b.colour);
   b.albedo = n.get_real("albedo", b.albedo, 0, 1);
   return b;
 }

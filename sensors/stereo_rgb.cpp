@@ -248,10 +248,7 @@ std::unique_ptr<Sensor> StereoRgb::create(const ConfigNode& n) {
   p.pixel_pitch_um = n.get_real("pixel_pitch_um", p.pixel_pitch_um, 1, 50);
   p.baseline = n.get_real("baseline", p.baseline, 0.01, 1);
   p.background = n.get_choice("background", p.background, {"foliage", "plain"});
-  if (n.has("plain_colour")) {
-    const auto c = n.get_real_list("plain_colour", 3, 0, 1);
-    p.plain_colour = {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
-  }
+  p.plain_colour = read_rgb(n, "plain_colour", p.plain_colour);
   p.background_distance = n.get_real("background_distance", p.background_distance, 0.05, 10);
   p.specular = n.get_real("specular", p.specular, 0, 1);
   p.shininess = n.get_real("shininess", p.shininess, 1, 128);

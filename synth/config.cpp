@@ -246,4 +246,10 @@ void ConfigNode::report_unused() const {
   if (!errors.empty()) throw InputError(errors);
 }
 
+Rgb read_rgb(const ConfigNode& node, const std::string& key, Rgb fallback) {
+  if (!node.has(key)) return fallback;
+  const auto c = node.get_real_list(key, 3, 0, 1);
+  return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])};
+}
+
 }  // namespace grapebench

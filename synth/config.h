@@ -4,6 +4,8 @@
 // silently.
 #pragma once
 
+#include "synth/types.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>
@@ -82,5 +84,8 @@ class ConfigNode {
   std::string path_;  // dotted key path for messages, e.g. "bunches[0]"
   std::shared_ptr<std::set<std::string>> used_;
 };
+
+// A colour written as [r, g, b], each in [0, 1] (linear); `fallback` when absent.
+Rgb read_rgb(const ConfigNode& node, const std::string& key, Rgb fallback);
 
 }  // namespace grapebench

@@ -21,14 +21,9 @@ FoliageParams read_foliage(const ConfigNode& n) {
   p.cordon_radius = n.get_real("cordon_radius", p.cordon_radius, 0.002, 0.05);
   p.shoots = static_cast<int>(n.get_int("shoots", p.shoots, 0, 100));
   p.shoot_radius = n.get_real("shoot_radius", p.shoot_radius, 0.002, 0.05);
-  auto colour = [&](const char* key, Rgb& c) {
-    if (!n.has(key)) return;
-    const auto v = n.get_real_list(key, 3, 0, 1);
-    c = {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
-  };
-  colour("leaf_colour", p.leaf_colour);
+  p.leaf_colour = read_rgb(n, "leaf_colour", p.leaf_colour);
   p.leaf_colour_sd = n.get_real("leaf_colour_sd", p.leaf_colour_sd, 0, 1);
-  colour("cane_colour", p.cane_colour);
+  p.cane_colour = read_rgb(n, "cane_colour", p.cane_colour);
   return p;
 }
 
