@@ -26,6 +26,18 @@ Region manual_region(const std::vector<std::uint8_t>& label, int min_berries) {
 
 }  // namespace
 
+FrameReturns frame_returns(const OrganisedCloud& c) {
+  std::vector<Vec3> pts;
+  FrameReturns out;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!c.valid[i]) continue;
+    pts.push_back(c.xyz[i].cast<double>());
+    out.pixel.push_back(i);
+  }
+  out.cloud = to_point_cloud(pts);
+  return out;
+}
+
 void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt, CaseResult& r) {
   const PipelineSpec& pl = scene.pipeline;
   const auto wants = [&](const char* kind) { return std::find(pl.rois.begin(), pl.rois.end(), kind) != pl.rois.end(); };
@@ -35,14 +47,7 @@ void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt,
     const OrganisedCloud& c = scan.views[k].cloud;
     // Every return of the frame (the paper's point cloud), then the view filters with
     // each point's pixel carried along.
-    std::vector<Vec3> pts;
-    std::vector<std::size_t> pixel;
-    for (std::size_t i = 0; i < c.size(); ++i) {
-      if (!c.valid[i]) continue;
-      pts.push_back(c.xyz[i].cast<double>());
-      pixel.push_back(i);
-    }
-    PointCloud cloud = to_point_cloud(pts);
+    auto [cloud, pixel] = frame_returns(c);
     apply_filters(pl.view_filters, cloud, pixel);
     std::vector<std::uint8_t> label(pixel.size());
     std::vector<Rgb8> rgb(pixel.size());

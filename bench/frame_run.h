@@ -7,6 +7,14 @@
 
 namespace grapebench {
 
+// A frame's valid returns (camera frame, m) and the pixel of each, so later steps can
+// look up colours and labels.
+struct FrameReturns {
+  PointCloud cloud;
+  std::vector<std::size_t> pixel;
+};
+FrameReturns frame_returns(const OrganisedCloud& c);
+
 // Per view: the valid returns with their colours, the scene's view_filters (seed 003's
 // pass-through), then each ROI kind of pipeline.rois (automatic detection, manual
 // label box, each as is or widened about its centre of mass by Eq. 2), the fine-tuning
