@@ -1,5 +1,7 @@
 #include "algorithms/poisson_volume.h"
 
+#include "algorithms/poisson_cgal.h"
+
 #include <pcl/PolygonMesh.h>
 #include <pcl/conversions.h>
 #include <pcl/point_cloud.h>
@@ -64,25 +66,21 @@ bool mesh_is_watertight(const std::vector<std::array<int, 3>>& t) {
   return true;
 }
 
-VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p) {
-  require_solid(cloud, "poisson_volume");
-  if (p.depth < 4 || p.depth > 12) throw InputError("poisson_volume: depth must lie in [4, 12]");
-  if (!(p.samples_per_node >= 1 && p.samples_per_node <= 20)) throw InputError("poisson_volume: samples_per_node must lie in [1, 20]");
-  if (!(p.scale >= 1 && p.scale <= 2)) throw InputError("poisson_volume: scale must lie in [1, 2]");
-  const SmoothedCloud s = mls_smooth(cloud, p.mls);
-  if (s.points.rows() < 4) throw InputError("poisson_volume: fewer than 4 points keep an MLS neighbourhood; raise mls.radius");
-  const Eigen::RowVector3d centre = s.points.colwise().mean();
+namespace {
+
+// PCL's octree Poisson on centred points; vertices in the centred frame.
+void pcl_poisson_mesh(const PointCloud& centred, const PointCloud& normals, const PoissonParams& p,
+                      std::vector<Vec3>& vertices, std::vector<std::array<int, 3>>& triangles) {
   auto in = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  in->resize(static_cast<std::size_t>(s.points.rows()));
-  for (Eigen::Index i = 0; i < s.points.rows(); ++i) {
+  in->resize(static_cast<std::size_t>(centred.rows()));
+  for (Eigen::Index i = 0; i < centred.rows(); ++i) {
     auto& q = (*in)[static_cast<std::size_t>(i)];
-    const Eigen::RowVector3d x = s.points.row(i) - centre;
-    q.x = static_cast<float>(x(0));
-    q.y = static_cast<float>(x(1));
-    q.z = static_cast<float>(x(2));
-    q.normal_x = static_cast<float>(s.normals(i, 0));
-    q.normal_y = static_cast<float>(s.normals(i, 1));
-    q.normal_z = static_cast<float>(s.normals(i, 2));
+    q.x = static_cast<float>(centred(i, 0));
+    q.y = static_cast<float>(centred(i, 1));
+    q.z = static_cast<float>(centred(i, 2));
+    q.normal_x = static_cast<float>(normals(i, 0));
+    q.normal_y = static_cast<float>(normals(i, 1));
+    q.normal_z = static_cast<float>(normals(i, 2));
   }
   pcl::Poisson<pcl::PointNormal> poisson;
   poisson.setInputCloud(in);
@@ -105,22 +103,55 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p) {
   }
   pcl::PointCloud<pcl::PointXYZ> verts;
   pcl::fromPCLPointCloud2(mesh.cloud, verts);
-  VolumeEstimate e;
-  e.points_used = static_cast<std::size_t>(s.points.rows());
-  // The reconstruction is about the centroid: the volume is summed there (precision),
-  // the mesh is returned in the cloud's frame.
-  std::vector<Vec3> local;
-  for (const auto& v : verts) local.emplace_back(v.x, v.y, v.z);
+  for (const auto& v : verts) vertices.emplace_back(v.x, v.y, v.z);
   for (const auto& poly : mesh.polygons) {
     if (poly.vertices.size() != 3) continue;
-    e.mesh_triangles.push_back({static_cast<int>(poly.vertices[0]), static_cast<int>(poly.vertices[1]),
-                                static_cast<int>(poly.vertices[2])});
+    triangles.push_back({static_cast<int>(poly.vertices[0]), static_cast<int>(poly.vertices[1]),
+                         static_cast<int>(poly.vertices[2])});
+  }
+}
+
+}  // namespace
+
+VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p) {
+  require_solid(cloud, "poisson_volume");
+  if (p.depth < 4 || p.depth > 12) throw InputError("poisson_volume: depth must lie in [4, 12]");
+  if (!(p.samples_per_node >= 1 && p.samples_per_node <= 20)) throw InputError("poisson_volume: samples_per_node must lie in [1, 20]");
+  if (!(p.scale >= 1 && p.scale <= 2)) throw InputError("poisson_volume: scale must lie in [1, 2]");
+  check_range(p.cell, 0, 0.05, "poisson_volume", "cell", " m");
+  check_range(p.step, 2e-4, 0.05, "poisson_volume", "step", " m");
+  const SmoothedCloud s = mls_smooth(cloud, p.mls);
+  if (s.points.rows() < 4) throw InputError("poisson_volume: fewer than 4 points keep an MLS neighbourhood; raise mls.radius");
+  // The reconstruction runs about the centroid (precision); the volume is summed
+  // there and the mesh returned in the cloud's frame.
+  const Eigen::RowVector3d centre = s.points.colwise().mean();
+  const PointCloud centred = s.points.rowwise() - centre;
+  VolumeEstimate e;
+  e.points_used = static_cast<std::size_t>(s.points.rows());
+  std::vector<Vec3> local;
+  std::string solver_note;
+  if (p.solver == PoissonSolver::Cgal) {
+    const Vec3 extent = (centred.colwise().maxCoeff() - centred.colwise().minCoeff()).transpose().array() + 4 * p.step;
+    const double nodes = (extent / p.step).array().ceil().prod();
+    if (nodes > 5e7) {
+      throw InputError("poisson_volume: step = " + std::to_string(p.step) + " m gives " + std::to_string(nodes) +
+                       " grid nodes on this cloud, more than 5e7; raise step");
+    }
+    CgalPoissonMesh m = cgal_poisson_mesh(centred, s.normals, p.cell, p.step);
+    if (!m.ok) throw InputError("poisson_volume: CGAL's Poisson solver failed (inconsistent normals or too few points)");
+    local = std::move(m.vertices);
+    e.mesh_triangles = std::move(m.triangles);
+    solver_note = "CGAL, " + std::to_string(m.points_solved) + " points solved, " + std::to_string(m.grid_nodes) + " grid nodes";
+  } else {
+    pcl_poisson_mesh(centred, s.normals, p, local, e.mesh_triangles);
+    solver_note = "PCL depth " + std::to_string(p.depth);
   }
   if (e.mesh_triangles.empty()) throw InputError("poisson_volume: the reconstruction is empty");
   for (const auto& v : local) e.mesh_vertices.push_back(v + centre.transpose());
   e.volume = std::abs(mesh_signed_volume(local, e.mesh_triangles));
   e.watertight = mesh_is_watertight(e.mesh_triangles);
-  e.notes = std::to_string(e.mesh_triangles.size()) + " triangles" + (e.watertight ? "" : ", not watertight");
+  e.notes = solver_note + ", " + std::to_string(e.mesh_triangles.size()) + " triangles" +
+            (e.watertight ? "" : ", not watertight");
   return e;
 }
 

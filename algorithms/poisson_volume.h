@@ -1,5 +1,5 @@
 // PB: Poisson surface reconstruction volume of seed 000 (Kazhdan et al. 2006; PCL's
-// Poisson), from MLS normals, measured as the signed-tetrahedron sum (Eq. 11).
+// or CGAL's Poisson), from MLS normals, measured as the signed-tetrahedron sum (Eq. 11).
 #pragma once
 
 #include "algorithms/mls_smooth.h"
@@ -7,18 +7,31 @@
 
 namespace grapebench {
 
+// Which Poisson solver reconstructs the surface. Seed 000 names Poisson (Kazhdan et
+// al. 2006) without an implementation.
+enum class PoissonSolver {
+  Pcl,   // PCL's octree solver (PoissonRecon), depth-limited (the default)
+  Cgal,  // CGAL's implicit function, contoured on a grid (algorithms/poisson_cgal.h)
+};
+
 struct PoissonParams {
   MlsParams mls;            // normals (seed 000: MLS before Poisson)
+  PoissonSolver solver = PoissonSolver::Pcl;
+  // PCL:
   int depth = 8;            // octree depth, [4, 12]; 8 gives ~1 mm cells on a 0.25 m bunch
   double samples_per_node = 1.5;  // [1, 20]; more smooths noisy data
   double scale = 1.1;       // reconstruction cube / bounding cube, [1, 2]
+  // CGAL:
+  double cell = 0.003;      // m, one point per grid cell before the solve, [0, 0.05]; 0: all
+  double step = 0.002;      // m, contouring grid spacing, [2e-4, 0.05]; at most 5e7 nodes
 };
 
 // Volume enclosed by the reconstructed mesh: sum over triangles of (a x b) . c / 6
 // (Eq. 11). `watertight` is true when every edge has exactly two triangles with
 // opposite orientations; otherwise the sum is still reported, and says so in notes.
 // Throws InputError on degenerate clouds (fewer than 4 points, non-finite, coplanar).
-// PCL's Poisson is not reentrant: concurrent calls are serialised by a lock.
+// PCL's Poisson is not reentrant: concurrent calls with solver Pcl are serialised by a
+// lock.
 VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& params = {});
 
 // Signed volume of a triangle mesh (Eq. 11) and the closed-manifold test.

@@ -114,18 +114,28 @@ const std::vector<EstimatorEntry> kEntries = {
        p["max_cells"] = v.max_cells;
        return [v](const PointCloud& c) { return volume_only(voxel_volume(c, v)); };
      }},
-    {"poisson", "PB: Poisson reconstruction from MLS normals, signed-tetrahedron volume (seed 000 Eq. 11; PCL)",
+    {"poisson", "PB: Poisson reconstruction from MLS normals, signed-tetrahedron volume (seed 000 Eq. 11; PCL, or CGAL with solver: cgal)",
      {Quantity::Volume},
      [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundEstimator {
        PoissonParams q;
-       q.depth = static_cast<int>(n.get_int("depth", q.depth, 4, 12));
-       q.samples_per_node = n.get_real("samples_per_node", q.samples_per_node, 1, 20);
-       q.scale = n.get_real("scale", q.scale, 1, 2);
+       const std::string solver = n.get_choice("solver", "pcl", {"pcl", "cgal"});
+       q.solver = solver == "cgal" ? PoissonSolver::Cgal : PoissonSolver::Pcl;
+       p["solver"] = solver;
+       if (q.solver == PoissonSolver::Pcl) {
+         q.depth = static_cast<int>(n.get_int("depth", q.depth, 4, 12));
+         q.samples_per_node = n.get_real("samples_per_node", q.samples_per_node, 1, 20);
+         q.scale = n.get_real("scale", q.scale, 1, 2);
+         p["depth"] = q.depth;
+         p["samples_per_node"] = q.samples_per_node;
+         p["scale"] = q.scale;
+       } else {
+         q.cell = n.get_real("cell", q.cell, 0, 0.05);
+         q.step = n.get_real("step", q.step, 2e-4, 0.05);
+         p["cell"] = q.cell;
+         p["step"] = q.step;
+       }
        q.mls.radius = n.get_real("mls_radius", q.mls.radius, 1e-4, 0.5);
        q.mls.polynomial_order = static_cast<int>(n.get_int("mls_order", q.mls.polynomial_order, 0, 4));
-       p["depth"] = q.depth;
-       p["samples_per_node"] = q.samples_per_node;
-       p["scale"] = q.scale;
        p["mls_radius"] = q.mls.radius;
        p["mls_order"] = q.mls.polynomial_order;
        return [q](const PointCloud& c) { return volume_only(poisson_volume(c, q)); };

@@ -130,9 +130,11 @@ double estimate(const std::string& name, const PointCloud& c) {
     return v.volume;
   }
   if (name == "PCA-box") return pca_box(c).volume();
-  if (name == "PB") {
-    const VolumeEstimate v = poisson_volume(c);
-    if (!v.watertight) throw std::runtime_error("PB mesh not watertight: " + v.notes);
+  if (name == "PB" || name == "PB-CGAL") {
+    PoissonParams p;
+    if (name == "PB-CGAL") p.solver = PoissonSolver::Cgal;
+    const VolumeEstimate v = poisson_volume(c, p);
+    if (!v.watertight) throw std::runtime_error(name + " mesh not watertight: " + v.notes);
     return v.volume;
   }
   if (name == "AS-large") {
@@ -184,7 +186,10 @@ INSTANTIATE_TEST_SUITE_P(
         // PB: smooth closed surfaces within 2 % (the sphere figure); the
         // cylinder's rims and the spheres' crease are rounded off, 3 %.
         Case{"PB", sphere, solid, 0.02}, Case{"PB", ellipsoid, solid, 0.02}, Case{"PB", capped_cylinder, solid, 0.03},
-        Case{"PB", two_spheres, solid, 0.03}),
+        Case{"PB", two_spheres, solid, 0.03},
+        // PB on CGAL's solver, contoured on a 2 mm grid: same tolerances.
+        Case{"PB-CGAL", sphere, solid, 0.02}, Case{"PB-CGAL", ellipsoid, solid, 0.02},
+        Case{"PB-CGAL", capped_cylinder, solid, 0.03}, Case{"PB-CGAL", two_spheres, solid, 0.03}),
     [](const auto& param_info) {
       std::string n = param_info.param.estimator + "_" + param_info.param.shape().name;
       for (auto& ch : n) ch = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
@@ -210,6 +215,27 @@ TEST(VoxelVolume, ConvergesAsTheVoxelShrinks) {
   EXPECT_NE(leaky.notes.find("not closed"), std::string::npos);
   // Counting only occupied voxels measures a shell, far below the solid volume.
   EXPECT_LT(voxel_volume(c, {0.002, false, 2e8}).volume, 0.3 * s.volume);
+}
+
+TEST(PoissonVolume, CgalSolverIsDeterministicClosedAndGuarded) {
+  const PointCloud c = to_point_cloud(sphere().surface);
+  PoissonParams p;
+  p.solver = PoissonSolver::Cgal;
+  p.step = 0.003;
+  const VolumeEstimate a = poisson_volume(c, p), b = poisson_volume(c, p);
+  EXPECT_TRUE(a.watertight) << a.notes;
+  EXPECT_EQ(a.volume, b.volume);  // same input, same bits (CGAL's own mesher is not)
+  EXPECT_EQ(a.mesh_triangles, b.mesh_triangles);
+  p.step = 2e-4;  // about 1e8 nodes on this shape
+  try {
+    poisson_volume(c, p);
+    ADD_FAILURE() << "a grid above 5e7 nodes was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("raise step"), std::string::npos) << e.what();
+  }
+  p.step = 0.003;
+  p.cell = 0.1;
+  EXPECT_THROW(poisson_volume(c, p), InputError);  // cell outside [0, 0.05] m
 }
 
 TEST(AlphaShape, SmallerAlphaCarvesTheConcavityOfTwoSpheres) {
@@ -260,6 +286,11 @@ TEST(Estimators, DegenerateInputGivesAClearError) {
       {"VB", [](const PointCloud& c) { voxel_volume(c); }},
       {"PCA-box", [](const PointCloud& c) { pca_box(c); }},
       {"AS", [](const PointCloud& c) { alpha_shape_volume(c); }},
+      {"PB-CGAL", [](const PointCloud& c) {
+         PoissonParams p;
+         p.solver = PoissonSolver::Cgal;
+         poisson_volume(c, p);
+       }},
   };
   for (const auto& [name, run] : estimators) {
     for (const PointCloud* c : std::initializer_list<const PointCloud*>{&empty, &nan}) {
