@@ -139,12 +139,33 @@ CgalPoissonMesh cgal_poisson_mesh(const PointCloud& points, const PointCloud& no
   std::array<int, 3> n{};
   for (int k = 0; k < 3; ++k) n[static_cast<std::size_t>(k)] = static_cast<int>(std::ceil((hi(k) - lo(k)) / step)) + 1;
   std::vector<double> values(static_cast<std::size_t>(n[0]) * static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(n[2]));
-  // Raster order: each point location starts from the last one's cell.
+  // The function is evaluated here rather than by f(p): CGAL 5.5's operator()
+  // dereferences its null cell hint on the first call (UBSan: reference binding to
+  // null pointer). Same interpolation: linear in the located Delaunay cell; outside
+  // the hull, the value of a finite vertex of the infinite cell. Raster order, each
+  // location starting from the last one's cell.
+  const auto& tr = f.tr();
+  decltype(tr.infinite_cell()) hint;
   std::size_t i = 0;
   for (int z = 0; z < n[2]; ++z) {
     for (int y = 0; y < n[1]; ++y) {
       for (int x = 0; x < n[0]; ++x) {
-        values[i++] = f(K::Point_3(lo.x() + x * step, lo.y() + y * step, lo.z() + z * step));
+        const K::Point_3 q(lo.x() + x * step, lo.y() + y * step, lo.z() + z * step);
+        hint = tr.locate(q, hint);
+        if (tr.is_infinite(hint)) {
+          values[i++] = hint->vertex((hint->index(tr.infinite_vertex()) + 1) & 3)->f();
+          continue;
+        }
+        const auto at = [&](int k) {
+          const auto& v = hint->vertex(k)->point();
+          return Vec3(v.x(), v.y(), v.z());
+        };
+        const Vec3 d = at(3);
+        Eigen::Matrix3d m;
+        m << at(0) - d, at(1) - d, at(2) - d;
+        const Vec3 w = m.partialPivLu().solve(Vec3(q.x(), q.y(), q.z()) - d);
+        values[i++] = w(0) * hint->vertex(0)->f() + w(1) * hint->vertex(1)->f() + w(2) * hint->vertex(2)->f() +
+                      (1 - w.sum()) * hint->vertex(3)->f();
       }
     }
   }
