@@ -28,6 +28,7 @@ class Contour {
     for (int z = 0; z + 1 < n_[2]; ++z) {
       for (int y = 0; y + 1 < n_[1]; ++y) {
         for (int x = 0; x + 1 < n_[0]; ++x) {
+          if (uniform_cube({x, y, z})) continue;  // most of the grid: no surface
           for (const auto& order : kAxisOrders) {
             std::array<int, 3> c{x, y, z};
             std::array<std::int64_t, 4> tet{};
@@ -52,6 +53,16 @@ class Contour {
     return origin_ + step_ * Vec3(static_cast<double>(x), static_cast<double>(y), static_cast<double>(z));
   }
   bool inside(std::int64_t id) const { return f_[static_cast<std::size_t>(id)] < 0; }
+  // True when the cube's eight corners lie on the same side, so none of its
+  // tetrahedra is cut.
+  bool uniform_cube(const std::array<int, 3>& c) const {
+    const bool first = inside(node(c));
+    for (int corner = 1; corner < 8; ++corner) {
+      const std::array<int, 3> q{c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1)};
+      if (inside(node(q)) != first) return false;
+    }
+    return true;
+  }
 
   // The surface vertex on the edge (a inside, b outside), linearly interpolated.
   int edge_vertex(std::int64_t a, std::int64_t b) {
