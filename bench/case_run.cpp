@@ -4,6 +4,7 @@
 #include "bench/frame_run.h"
 #include "bench/heap_meter.h"
 #include "sensors/scan.h"
+#include "sensors/visibility_hull.h"
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
 #include "synth/io.h"
@@ -146,6 +147,10 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
   r.key = case_key(condition, job);
   PointCloud merged;
   GroundTruth gt;
+  EstimateRow floor_row;  // the rig's visibility hull, when the pipeline asks for it
+  floor_row.estimator = floor_row.type = "visibility_hull";
+  floor_row.quantity = quantity_name(Quantity::Volume);
+  floor_row.error = "not measured: the case failed first";
   try {
     if (!scene.sensor || !scene.rig) throw InputError(scene.path + ": a run needs `sensor:` and `rig:` sections");
     auto t0 = std::chrono::steady_clock::now();
@@ -156,6 +161,17 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
     const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
     r.scan_seconds = seconds_since(t0);
     r.views = static_cast<int>(scan.views.size());
+    if (scene.pipeline.visibility_hull > 0 && scene.pipeline.registration != "single_frame") {
+      std::vector<Camera> cameras;
+      for (const auto& v : scan.views) cameras.push_back(v.camera);
+      t0 = std::chrono::steady_clock::now();
+      floor_row.truth = gt.volume.solid;
+      floor_row.estimate = visibility_hull(rays, cameras, {scene.pipeline.visibility_hull, 0.003}).volume;
+      floor_row.seconds = seconds_since(t0);
+      floor_row.ok = true;
+      floor_row.watertight = true;
+      floor_row.error.clear();
+    }
     if (scene.pipeline.registration == "single_frame") {
       measure_frames(scene, scan, gt, r);
       r.ok = true;
@@ -274,6 +290,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
   }
   if (scene.pipeline.registration == "single_frame") return r;  // its rows are per frame
   r.rows = run_estimators(scene.estimators, merged, gt, r.ok ? "" : "no cloud: " + r.error);
+  if (scene.pipeline.visibility_hull > 0) r.rows.push_back(floor_row);
   return r;
 }
 

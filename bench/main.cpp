@@ -94,7 +94,9 @@ std::string run_help() {
        "            icp: {max_correspondence_distance 0.003 m [1e-4,1], max_iterations 50 [1,10000],\n"
        "                  transformation_epsilon 1e-9, fitness_epsilon 1e-10, point_to_plane false}\n"
        "            group_size 3 [1,360] (seed 000), bottom_band 0.03 m (seed 002), angle_error_sd_deg 0 [0,45],\n"
-       "            min_points 100 (fewer bunch points fail the case)\n"
+       "            min_points 100 (fewer bunch points fail the case),\n"
+       "            visibility_hull 0 m, off; [1e-4,0.05]: the rig's visibility hull at that step, a volume row\n"
+       "            `visibility_hull` (the floor of any estimator that invents no geometry)\n"
        "estimators: a list of {type, name (optional column name), parameters}; types:\n";
   for (const auto& e : estimator_registry()) s << "            " << e.type << "  " << e.summary << "\n";
   s << "sweep:      {dotted.key: [values] or {from, to, step}}, e.g. sensor.noise_scale: [0, 0.5, 1, 2, 4],\n"

@@ -317,7 +317,18 @@ class Progress {
 std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseResult>& cases) {
   std::vector<ScoreRow> out;
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
-    for (const auto& spec : set.conditions[c].scene.estimators) {
+    // The scene's estimators, then the rig's floor when the pipeline measures it.
+    struct Scored {
+      std::string name, type;
+      std::vector<Quantity> quantities;
+    };
+    const Scene& scene = set.conditions[c].scene;
+    std::vector<Scored> scored;
+    for (const auto& e : scene.estimators) scored.push_back({e.name, e.type, e.quantities});
+    if (scene.pipeline.visibility_hull > 0 && scene.pipeline.registration != "single_frame") {
+      scored.push_back({"visibility_hull", "visibility_hull", {Quantity::Volume}});
+    }
+    for (const auto& spec : scored) {
       // Single-frame pipelines score each ROI kind apart ("G_E@manual_r").
       std::vector<std::string> rois;
       for (const auto& cr : cases) {

@@ -17,7 +17,7 @@ nlohmann::ordered_json PipelineSpec::describe() const {
     for (const auto& f : list) a.push_back({{"type", f.type}, {"params", f.params}});
     return a;
   };
-  return {{"segmentation", segmentation},
+  nlohmann::ordered_json j = {{"segmentation", segmentation},
           {"view_filters", steps(view_filters)},
           {"cloud_filters", steps(cloud_filters)},
           {"registration", registration},
@@ -46,6 +46,9 @@ nlohmann::ordered_json PipelineSpec::describe() const {
             {"cluster_min_points", roi.clusters.min_points},
             {"roi_radius_m", roi.roi_radius},
             {"kmeans_seed", roi.seed}}}};
+  // Only when on, so the keys (and resumable cases) of scenes without it stay the same.
+  if (visibility_hull > 0) j["visibility_hull_m"] = visibility_hull;
+  return j;
 }
 
 namespace {
@@ -104,6 +107,8 @@ PipelineSpec read_pipeline(const ConfigNode& n) {
   p.bottom_band = n.get_real("bottom_band", p.bottom_band, 0.001, 0.5);
   p.angle_error_sd_deg = n.get_real("angle_error_sd_deg", p.angle_error_sd_deg, 0, 45);
   p.min_points = n.get_real("min_points", p.min_points, 4, 1e9);
+  p.visibility_hull = n.get_real("visibility_hull", p.visibility_hull, 0, 0.05);
+  if (p.visibility_hull > 0 && p.visibility_hull < 1e-4) n.fail("visibility_hull", "must be 0 (off) or lie in [1e-4, 0.05] m");
   return p;
 }
 
@@ -118,6 +123,7 @@ std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
     if (e.name.empty() || e.name.find_first_of(",\"\n ") != std::string::npos) {
       n.fail("name", "must be non-empty without spaces, commas or quotes");
     }
+    if (e.name == "visibility_hull") n.fail("name", "'visibility_hull' is reserved for the rig's floor row (pipeline.visibility_hull); pick another");
     for (const auto& other : out) {
       if (other.name == e.name) n.fail("name", "'" + e.name + "' is used twice; give each estimator its own `name:`");
     }

@@ -57,6 +57,10 @@ struct PipelineSpec {
   double bottom_band = 0.03;       // known_angle_icp: lowest band for the bottom view, m, [0.001, 0.5]
   double angle_error_sd_deg = 0;   // known_angle_icp: turntable angle error, deg, [0, 45]
   double min_points = 100;         // a case with fewer bunch points fails, [4, 1e9]
+  // m, sample step of the rig's visibility hull (sensors/visibility_hull.h), reported
+  // as the volume row of the reference `visibility_hull`: the floor of any estimator
+  // that invents no geometry. 0: off (the default); else [1e-4, 0.05].
+  double visibility_hull = 0;
   nlohmann::ordered_json describe() const;
 };
 

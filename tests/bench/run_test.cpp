@@ -182,6 +182,45 @@ TEST(Run, ScoresEveryEstimatorAndWritesAllFiles) {
   EXPECT_NE(slurp(out / "report.html").find("<svg"), std::string::npos);
 }
 
+// pipeline.visibility_hull adds the rig's floor as a scored volume row: it contains
+// the solid, so it exceeds the truth in every case; the key is range-checked and the
+// row's name reserved.
+TEST(Run, VisibilityHullIsAScoredFloorAboveTheTruth) {
+  const std::string scene = std::string(kScene) + "pipeline:\n  visibility_hull: 0.002\n";
+  const fs::path out = fresh_dir("floor");
+  const RunOutcome r = run_scene_set(parse_scene_set(scene, "floor.yaml"), quiet(out));
+  ASSERT_TRUE(r.complete);
+  const std::string csv = slurp(out / "results.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 6);  // one more row per case
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  bool found = false;
+  for (const auto& row : summary["scores"]) {
+    if (row["estimator"] != "visibility_hull") continue;
+    found = true;
+    EXPECT_EQ(row["succeeded"].get<int>(), 3) << row.dump();
+    EXPECT_GT(row["bias"].get<double>(), 0) << row.dump();
+  }
+  EXPECT_TRUE(found);
+  std::istringstream lines(csv);
+  int floors = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find(",visibility_hull,visibility_hull,volume,") == std::string::npos) continue;
+    ++floors;
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
+    EXPECT_GT(std::stod(f[9]), std::stod(f[10])) << line;  // estimate > truth
+  }
+  EXPECT_EQ(floors, 3);
+  std::string m = error_of(std::string(kScene) + "pipeline:\n  visibility_hull: 0.00001\n");
+  EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
+  EXPECT_NE(m.find("[1e-4, 0.05]"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "pipeline:\n  visibility_hull: 0.5\n");
+  EXPECT_NE(m.find("visibility_hull"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "  - type: convex_hull\n    name: visibility_hull\n");
+  EXPECT_NE(m.find("reserved"), std::string::npos) << m;
+}
+
 TEST(Run, InterruptedRunsResumeToTheSameResultsAndThreadsDoNotMatter) {
   const SceneSet set = parse_scene_set(kScene, "tiny.yaml");
   const fs::path a = fresh_dir("whole"), b = fresh_dir("resumed");
