@@ -37,12 +37,4 @@ void require_solid(const PointCloud& cloud, const std::string& who) {
   }
 }
 
-void check_range(double v, double lo, double hi, const char* who, const char* name, const char* unit) {
-  if (!(v >= lo && v <= hi)) {
-    std::ostringstream s;
-    s << who << ": " << name << " = " << v << unit << " outside the allowed range [" << lo << ", " << hi << "]";
-    throw InputError(s.str());
-  }
-}
-
 }  // namespace grapebench

@@ -21,8 +21,5 @@ void require_points(const PointCloud& cloud, Eigen::Index min_points, const std:
 // For volume estimators: at least 4 finite points that do not all lie in one plane
 // (smallest principal extent above 1e-9 of the largest).
 void require_solid(const PointCloud& cloud, const std::string& who);
-// Throws InputError "who: name = v unit outside the allowed range [lo, hi]" unless
-// lo <= v <= hi (NaN fails).
-void check_range(double v, double lo, double hi, const char* who, const char* name, const char* unit = "");
 
 }  // namespace grapebench

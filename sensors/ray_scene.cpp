@@ -241,8 +241,8 @@ RayScene::RayScene(const Bunch& bunch, std::optional<BackgroundPlane> background
   for (const auto& b : bunch.berries) grow(b.centre, b.centre, b.radius);
   for (const auto& s : bunch.stems) grow(s.start, s.end, s.radius);
   const bool empty_bunch = bunch.berries.empty() && bunch.stems.empty();
-  bunch_centre_ = empty_bunch ? Vec3::Zero() : Vec3(0.5 * (lo + hi));
-  bunch_radius_ = empty_bunch ? 0 : 0.5 * (hi - lo).norm();
+  bunch_min_ = empty_bunch ? Vec3::Zero() : lo;
+  bunch_max_ = empty_bunch ? Vec3::Zero() : hi;
   for (const auto& s : foliage.canes) grow(s.start, s.end, s.radius);
   for (const auto& v : foliage.vertices) grow(v, v, 0);
   if (lo.x() > hi.x()) lo = hi = Vec3::Zero();

@@ -94,8 +94,11 @@ class RayScene {
   Vec3 bounds_centre() const { return centre_; }
   double bounds_radius() const { return radius_; }
   // Bounding sphere of the bunch alone, m: what the rigs aim at.
-  Vec3 bunch_centre() const { return bunch_centre_; }
-  double bunch_radius() const { return bunch_radius_; }
+  Vec3 bunch_centre() const { return 0.5 * (bunch_min_ + bunch_max_); }
+  double bunch_radius() const { return 0.5 * (bunch_max_ - bunch_min_).norm(); }
+  // Axis-aligned box of the bunch's berries and stems, m (both zero for an empty bunch).
+  const Vec3& bunch_min() const { return bunch_min_; }
+  const Vec3& bunch_max() const { return bunch_max_; }
 
  private:
   void refine(const Ray& ray, unsigned geom, unsigned prim, double t, Hit& hit) const;
@@ -121,8 +124,8 @@ class RayScene {
 
   std::shared_ptr<State> state_;
   std::optional<BackgroundPlane> background_;
-  Vec3 centre_ = Vec3::Zero(), bunch_centre_ = Vec3::Zero();
-  double radius_ = 0, bunch_radius_ = 0;
+  Vec3 centre_ = Vec3::Zero(), bunch_min_ = Vec3::Zero(), bunch_max_ = Vec3::Zero();
+  double radius_ = 0;
 };
 
 }  // namespace grapebench

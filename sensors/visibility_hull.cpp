@@ -5,19 +5,11 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
-#include <limits>
 #include <string>
 
 namespace grapebench {
 
 namespace {
-
-void check(double value, double lo, double hi, const char* name) {
-  if (!(value >= lo && value <= hi)) {
-    throw InputError(std::string("visibility_hull: ") + name + " = " + std::to_string(value) + " m, must lie in [" +
-                     std::to_string(lo) + ", " + std::to_string(hi) + "] m");
-  }
-}
 
 // Whether `camera` images `q` (in front of it, inside the image).
 bool in_view(const Camera& camera, const Vec3& q) {
@@ -30,22 +22,12 @@ bool in_view(const Camera& camera, const Vec3& q) {
 }  // namespace
 
 VisibilityHull visibility_hull(const RayScene& scene, const std::vector<Camera>& cameras, const VisibilityHullParams& p) {
-  check(p.voxel, 1e-4, 0.05, "voxel");
-  check(p.margin, 0, 0.5, "margin");
+  check_range(p.voxel, 1e-4, 0.05, "visibility_hull", "voxel", " m");
+  check_range(p.margin, 0, 0.5, "visibility_hull", "margin", " m");
   if (cameras.empty()) throw InputError("visibility_hull: no cameras");
   const Bunch& b = scene.bunch();
   if (b.berries.empty() && b.stems.empty()) throw InputError("visibility_hull: the bunch has no berries or stems");
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const Berry& berry : b.berries) {
-    lo = lo.cwiseMin(berry.centre - Vec3::Constant(berry.radius));
-    hi = hi.cwiseMax(berry.centre + Vec3::Constant(berry.radius));
-  }
-  for (const Stem& s : b.stems) {
-    for (const Vec3& e : {s.start, s.end}) {
-      lo = lo.cwiseMin(e - Vec3::Constant(s.radius));
-      hi = hi.cwiseMax(e + Vec3::Constant(s.radius));
-    }
-  }
+  Vec3 lo = scene.bunch_min(), hi = scene.bunch_max();
   lo.array() -= p.margin;
   hi.array() += p.margin;
   std::array<int, 3> n{};

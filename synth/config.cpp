@@ -21,6 +21,14 @@ std::string fmt(double v) {
 
 }  // namespace
 
+void check_range(double v, double lo, double hi, const char* who, const char* name, const char* unit) {
+  if (!(v >= lo && v <= hi)) {
+    std::ostringstream s;
+    s << who << ": " << name << " = " << v << unit << " outside the allowed range [" << lo << ", " << hi << "]";
+    throw InputError(s.str());
+  }
+}
+
 ConfigNode::ConfigNode(YAML::Node node, std::shared_ptr<State> state, std::string path)
     : node_(std::move(node)),
       state_(std::move(state)),

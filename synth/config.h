@@ -23,6 +23,11 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Throws InputError "who: name = v unit outside the allowed range [lo, hi]" unless
+// lo <= v <= hi (NaN fails). For parameters passed in code; scene files use
+// ConfigNode, whose errors also name file and line.
+void check_range(double v, double lo, double hi, const char* who, const char* name, const char* unit = "");
+
 // A mapping node of a YAML document that remembers which keys were read.
 class ConfigNode {
  public:
