@@ -113,15 +113,29 @@ void pcl_poisson_mesh(const PointCloud& centred, const PointCloud& normals, cons
 
 }  // namespace
 
-VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p) {
+VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, const PointCloud& facing) {
   require_solid(cloud, "poisson_volume");
+  if (facing.rows() != 0 && facing.rows() != cloud.rows()) {
+    throw InputError("poisson_volume: facing has " + std::to_string(facing.rows()) + " rows for a cloud of " +
+                     std::to_string(cloud.rows()) + " points; give one per point or none");
+  }
+  if (!facing.allFinite()) throw InputError("poisson_volume: facing has a non-finite entry");
   if (p.depth < 4 || p.depth > 12) throw InputError("poisson_volume: depth must lie in [4, 12]");
   if (!(p.samples_per_node >= 1 && p.samples_per_node <= 20)) throw InputError("poisson_volume: samples_per_node must lie in [1, 20]");
   if (!(p.scale >= 1 && p.scale <= 2)) throw InputError("poisson_volume: scale must lie in [1, 2]");
   check_range(p.cell, 0, 0.05, "poisson_volume", "cell", " m");
   check_range(p.step, 2e-4, 0.05, "poisson_volume", "step", " m");
-  const SmoothedCloud s = mls_smooth(cloud, p.mls);
+  SmoothedCloud s = mls_smooth(cloud, p.mls);
   if (s.points.rows() < 4) throw InputError("poisson_volume: fewer than 4 points keep an MLS neighbourhood; raise mls.radius");
+  Eigen::Index flipped = 0;
+  if (facing.rows() != 0) {
+    for (Eigen::Index i = 0; i < s.points.rows(); ++i) {
+      if (s.normals.row(i).dot(facing.row(s.source[static_cast<std::size_t>(i)])) < 0) {
+        s.normals.row(i) *= -1;
+        ++flipped;
+      }
+    }
+  }
   // The reconstruction runs about the centroid (precision); the volume is summed
   // there and the mesh returned in the cloud's frame.
   const Eigen::RowVector3d centre = s.points.colwise().mean();
@@ -150,6 +164,7 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p) {
   for (const auto& v : local) e.mesh_vertices.push_back(v + centre.transpose());
   e.volume = std::abs(mesh_signed_volume(local, e.mesh_triangles));
   e.watertight = mesh_is_watertight(e.mesh_triangles);
+  if (facing.rows() != 0) solver_note += ", " + std::to_string(flipped) + " normals turned to face their row of facing";
   e.notes = solver_note + ", " + std::to_string(e.mesh_triangles.size()) + " triangles" +
             (e.watertight ? "" : ", not watertight");
   return e;

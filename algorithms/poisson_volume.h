@@ -32,7 +32,16 @@ struct PoissonParams {
 // Throws InputError on degenerate clouds (fewer than 4 points, non-finite, coplanar).
 // PCL's Poisson is not reentrant: concurrent calls with solver Pcl are serialised by a
 // lock.
-VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& params = {});
+//
+// MLS normals have no sign; mls_smooth points them away from the centroid, which is
+// right only where the surface is star-shaped about it (the outer faces of a bunch,
+// not the berry sides facing into it). `facing` (N x 3, one row per cloud row, any
+// length; or empty) fixes the sign instead: each normal is turned to have a
+// non-negative dot product with its point's row, e.g. the direction to the camera that
+// saw the point (PCL's flipNormalTowardsViewpoint) or the normal of the mesh it was
+// sampled from. Zero rows leave the centroid's choice.
+VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& params = {},
+                              const PointCloud& facing = PointCloud());
 
 // Signed volume of a triangle mesh (Eq. 11) and the closed-manifold test.
 double mesh_signed_volume(const std::vector<Vec3>& vertices, const std::vector<std::array<int, 3>>& triangles);

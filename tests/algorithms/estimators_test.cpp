@@ -238,6 +238,38 @@ TEST(PoissonVolume, CgalSolverIsDeterministicClosedAndGuarded) {
   EXPECT_THROW(poisson_volume(c, p), InputError);  // cell outside [0, 0.05] m
 }
 
+// Two separate balls are not star-shaped about their centroid: pointing MLS normals
+// away from it turns the inner half of each ball inside out. Given a facing direction
+// per point (here the sampled surface's own normal), PB recovers the volume.
+TEST(PoissonVolume, FacingFixesNormalsWhereTheCentroidCannot) {
+  const double R = 0.02;
+  std::vector<Vec3> points, outward;
+  for (const double x : {-0.035, 0.035}) {
+    for (const auto& u : fibonacci(6000)) {
+      points.push_back(Vec3(x, 0, 0) + R * u);
+      outward.push_back(u);
+    }
+  }
+  const PointCloud c = to_point_cloud(points), facing = to_point_cloud(outward);
+  const double exact = 2 * 4.0 / 3.0 * M_PI * R * R * R;
+  for (const PoissonSolver solver : {PoissonSolver::Pcl, PoissonSolver::Cgal}) {
+    PoissonParams p;
+    p.solver = solver;
+    p.mls.radius = 0.005;
+    p.depth = 7;
+    p.step = 0.0015;
+    const VolumeEstimate centroid = poisson_volume(c, p), faced = poisson_volume(c, p, facing);
+    EXPECT_GT(std::abs(centroid.volume / exact - 1), 0.1) << centroid.notes;
+    EXPECT_NEAR(faced.volume / exact, 1, 0.02) << faced.notes;
+    EXPECT_TRUE(faced.watertight) << faced.notes;
+    EXPECT_NE(faced.notes.find("normals turned"), std::string::npos) << faced.notes;
+  }
+  EXPECT_THROW(poisson_volume(c, {}, facing.topRows(10)), InputError);  // one row per point
+  PointCloud bad = facing;
+  bad(3, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(poisson_volume(c, {}, bad), InputError);
+}
+
 TEST(AlphaShape, SmallerAlphaCarvesTheConcavityOfTwoSpheres) {
   const Shape s = two_spheres();
   const PointCloud c = to_point_cloud(s.surface);
