@@ -4,6 +4,7 @@
 #include "synth/rng.h"
 #include "synth/stem_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
