@@ -34,10 +34,6 @@ Vec3 unit_sphere_point(Rng& rng) {
   return {s * std::cos(phi), s * std::sin(phi), z};
 }
 
-std::size_t count_for(double density, double area) {
-  return static_cast<std::size_t>(std::llround(density * area));
-}
-
 }  // namespace
 
 SurfaceSample sample_surface(const Bunch& b, double density, std::uint64_t seed) {
@@ -77,7 +73,7 @@ SurfaceSample sample_surface(const Bunch& b, double density, std::uint64_t seed)
   Rng rng(seed);
   // Draws n points on one surface piece of primitive k and keeps the exposed ones.
   const auto draw = [&](std::size_t k, double piece_area, Part part, const auto& point_and_normal) {
-    const std::size_t n = count_for(density, piece_area);
+    const auto n = static_cast<std::size_t>(std::llround(density * piece_area));
     out.candidates += n;
     for (std::size_t i = 0; i < n; ++i) {
       Vec3 p, normal;

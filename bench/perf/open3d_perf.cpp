@@ -117,7 +117,7 @@ const Cloud& scan() {
 // The boundary of bunch `seed`'s solid sampled uniformly (0.4 points per mm2 before
 // the stride), thinned to kPoints.
 Cloud surface_of(std::uint64_t seed) {
-  const Bunch b = seed == 7 ? the_bunch() : generate_bunch(bunch_params(), seed);
+  const Bunch b = generate_bunch(bunch_params(), seed);
   const SurfaceSample s = sample_surface(b, 4e5, 1);
   return thinned(b, s.points, s.normals, "surface of bunch " + std::to_string(seed));
 }
