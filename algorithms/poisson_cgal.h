@@ -1,8 +1,11 @@
 // CGAL's Poisson implicit function (Kazhdan et al. 2006 solved on a Delaunay
 // refinement: CGAL's Poisson_reconstruction_function), contoured by marching
-// tetrahedra on a regular grid. CGAL's own surface mesher is not used: its refinement
-// queues order facets by memory address, so identical input gave different meshes
-// from call to call; the implicit function and this contouring are deterministic.
+// tetrahedra on a regular grid (algorithms/grid_contour.h). CGAL's own surface mesher
+// is not used: its refinement queues order facets by memory address, so identical
+// input gave different meshes from call to call. The implicit function is not wholly
+// free of this either: on a 40k-point sphere one call in four gave grid values
+// differing in the sixth digit (the volume in the ninth), with the same triangles.
+// The screened solver (algorithms/poisson_screened.h) is bit-for-bit repeatable.
 // Kept in its own translation unit: CGAL's Poisson templates are heavy.
 #pragma once
 

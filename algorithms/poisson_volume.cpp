@@ -3,6 +3,7 @@
 #include "algorithms/poisson_cgal.h"
 
 #include <pcl/PolygonMesh.h>
+#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/conversions.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -13,7 +14,7 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <map>
+#include <cstdint>
 #include <mutex>
 
 namespace grapebench {
@@ -52,16 +53,41 @@ double mesh_signed_volume(const std::vector<Vec3>& v, const std::vector<std::arr
 
 bool mesh_is_watertight(const std::vector<std::array<int, 3>>& t) {
   if (t.empty()) return false;
-  // Directed edge counts: closed and consistently oriented iff each directed edge
-  // appears once and its reverse once.
-  std::map<std::pair<int, int>, int> directed;
+  // Closed and consistently oriented iff each directed edge appears once and its
+  // reverse once. The directed edges are grouped by their first vertex (counting
+  // sort), so each check looks through one vertex's few neighbours.
+  int vertices = 0;
   for (const auto& f : t) {
-    for (int k = 0; k < 3; ++k) ++directed[{f[static_cast<std::size_t>(k)], f[static_cast<std::size_t>((k + 1) % 3)]}];
+    for (const int v : f) {
+      if (v < 0) return false;
+      vertices = std::max(vertices, v + 1);
+    }
   }
-  for (const auto& [e, n] : directed) {
-    if (n != 1) return false;
-    const auto rev = directed.find({e.second, e.first});
-    if (rev == directed.end() || rev->second != 1) return false;
+  std::vector<std::size_t> first(static_cast<std::size_t>(vertices) + 1, 0);
+  for (const auto& f : t) {
+    for (const int v : f) ++first[static_cast<std::size_t>(v) + 1];
+  }
+  for (std::size_t v = 0; v < static_cast<std::size_t>(vertices); ++v) first[v + 1] += first[v];
+  std::vector<int> to(3 * t.size());
+  std::vector<std::size_t> fill(first.begin(), first.end() - 1);
+  for (const auto& f : t) {
+    for (std::size_t k = 0; k < 3; ++k) to[fill[static_cast<std::size_t>(f[k])]++] = f[(k + 1) % 3];
+  }
+  const auto out_of = [&](int v) {
+    return std::pair(to.begin() + static_cast<std::ptrdiff_t>(first[static_cast<std::size_t>(v)]),
+                     to.begin() + static_cast<std::ptrdiff_t>(first[static_cast<std::size_t>(v) + 1]));
+  };
+  for (int v = 0; v < vertices; ++v) {
+    const auto [b, e] = out_of(v);
+    std::sort(b, e);
+    if (std::adjacent_find(b, e) != e) return false;
+  }
+  for (int v = 0; v < vertices; ++v) {
+    const auto [b, e] = out_of(v);
+    for (auto w = b; w != e; ++w) {
+      const auto [rb, re] = out_of(*w);
+      if (!std::binary_search(rb, re, v)) return false;
+    }
   }
   return true;
 }
@@ -111,6 +137,30 @@ void pcl_poisson_mesh(const PointCloud& centred, const PointCloud& normals, cons
   }
 }
 
+// The surface area each point stands for: pi d^2 / k, d the distance to its k-th
+// neighbour (the disc holding k points at the local density).
+std::vector<double> point_areas(const PointCloud& points, int k) {
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    cloud->push_back(pcl::PointXYZ(static_cast<float>(points(i, 0)), static_cast<float>(points(i, 1)), static_cast<float>(points(i, 2))));
+  }
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(cloud);
+  const int want = std::min<int>(k + 1, static_cast<int>(points.rows()));  // the point itself comes first
+  pcl::Indices nn;
+  std::vector<float> d2;
+  std::vector<double> areas(static_cast<std::size_t>(points.rows()));
+  double smallest = 0;
+  for (std::size_t i = 0; i < areas.size(); ++i) {
+    tree.nearestKSearch((*cloud)[i], want, nn, d2);
+    areas[i] = M_PI * static_cast<double>(d2.back()) / (want - 1);
+    if (areas[i] > 0 && (smallest == 0 || areas[i] < smallest)) smallest = areas[i];
+  }
+  // Coincident points (k of them at one place) share the smallest area seen.
+  for (double& a : areas) a = a > 0 ? a : (smallest > 0 ? smallest : 1e-12);
+  return areas;
+}
+
 }  // namespace
 
 VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, const PointCloud& facing) {
@@ -125,6 +175,7 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, c
   if (!(p.scale >= 1 && p.scale <= 2)) throw InputError("poisson_volume: scale must lie in [1, 2]");
   check_range(p.cell, 0, 0.05, "poisson_volume", "cell", " m");
   check_range(p.step, 2e-4, 0.05, "poisson_volume", "step", " m");
+  check_range(p.area_neighbours, 2, 100, "poisson_volume", "area_neighbours");
   SmoothedCloud s = mls_smooth(cloud, p.mls);
   if (s.points.rows() < 4) throw InputError("poisson_volume: fewer than 4 points keep an MLS neighbourhood; raise mls.radius");
   Eigen::Index flipped = 0;
@@ -135,6 +186,9 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, c
         ++flipped;
       }
     }
+  }
+  if (!p.mls_positions) {
+    for (Eigen::Index i = 0; i < s.points.rows(); ++i) s.points.row(i) = cloud.row(s.source[static_cast<std::size_t>(i)]);
   }
   // The reconstruction runs about the centroid (precision); the volume is summed
   // there and the mesh returned in the cloud's frame.
@@ -156,6 +210,13 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, c
     local = std::move(m.vertices);
     e.mesh_triangles = std::move(m.triangles);
     solver_note = "CGAL, " + std::to_string(m.points_solved) + " points solved, " + std::to_string(m.grid_nodes) + " grid nodes";
+  } else if (p.solver == PoissonSolver::Screened) {
+    ScreenedPoissonMesh m = screened_poisson_mesh(centred, s.normals, point_areas(centred, p.area_neighbours), p.screened);
+    local = std::move(m.vertices);
+    e.mesh_triangles = std::move(m.triangles);
+    solver_note = "screened, grid " + std::to_string(m.grid[0]) + " x " + std::to_string(m.grid[1]) + " x " + std::to_string(m.grid[2]) +
+                  ", " + std::to_string(m.levels) + " levels, " + std::to_string(m.iterations) + " iterations to residual " +
+                  std::to_string(m.residual);
   } else {
     pcl_poisson_mesh(centred, s.normals, p, local, e.mesh_triangles);
     solver_note = "PCL depth " + std::to_string(p.depth);

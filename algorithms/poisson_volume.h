@@ -3,6 +3,7 @@
 #pragma once
 
 #include "algorithms/mls_smooth.h"
+#include "algorithms/poisson_screened.h"
 #include "algorithms/volume_estimate.h"
 
 namespace grapebench {
@@ -12,10 +13,16 @@ namespace grapebench {
 enum class PoissonSolver {
   Pcl,   // PCL's octree solver (PoissonRecon), depth-limited (the default)
   Cgal,  // CGAL's implicit function, contoured on a grid (algorithms/poisson_cgal.h)
+  Screened,  // screened Poisson (Kazhdan & Hoppe 2013) on a grid (algorithms/poisson_screened.h)
 };
 
 struct PoissonParams {
   MlsParams mls;            // normals (seed 000: MLS before Poisson)
+  // true: reconstruct from the MLS-projected points (seed 000 smooths and resamples
+  // the registered cloud with MLS to remove ghosting); false: from the input points,
+  // taking only the normals from MLS. Projection removes noise but moves a noise-free
+  // surface (berries narrower than the MLS radius flatten).
+  bool mls_positions = true;
   PoissonSolver solver = PoissonSolver::Pcl;
   // PCL:
   int depth = 8;            // octree depth, [4, 12]; 8 gives ~1 mm cells on a 0.25 m bunch
@@ -24,6 +31,10 @@ struct PoissonParams {
   // CGAL:
   double cell = 0.003;      // m, one point per grid cell before the solve, [0, 0.05]; 0: all
   double step = 0.002;      // m, contouring grid spacing, [2e-4, 0.05]; at most 5e7 nodes
+  // Screened: grid, screening weight and solve; each point's area is pi d^2 / k from
+  // the distance d to its k-th neighbour.
+  ScreenedPoissonParams screened;
+  int area_neighbours = 10;  // k, [2, 100]
 };
 
 // Volume enclosed by the reconstructed mesh: sum over triangles of (a x b) . c / 6

@@ -114,12 +114,12 @@ const std::vector<EstimatorEntry> kEntries = {
        p["max_cells"] = v.max_cells;
        return [v](const PointCloud& c) { return volume_only(voxel_volume(c, v)); };
      }},
-    {"poisson", "PB: Poisson reconstruction from MLS normals, signed-tetrahedron volume (seed 000 Eq. 11; PCL, or CGAL with solver: cgal)",
+    {"poisson", "PB: Poisson reconstruction from MLS normals, signed-tetrahedron volume (seed 000 Eq. 11; PCL, CGAL with solver: cgal, or screened Poisson with solver: screened)",
      {Quantity::Volume},
      [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundEstimator {
        PoissonParams q;
-       const std::string solver = n.get_choice("solver", "pcl", {"pcl", "cgal"});
-       q.solver = solver == "cgal" ? PoissonSolver::Cgal : PoissonSolver::Pcl;
+       const std::string solver = n.get_choice("solver", "pcl", {"pcl", "cgal", "screened"});
+       q.solver = solver == "cgal" ? PoissonSolver::Cgal : solver == "screened" ? PoissonSolver::Screened : PoissonSolver::Pcl;
        p["solver"] = solver;
        if (q.solver == PoissonSolver::Pcl) {
          q.depth = static_cast<int>(n.get_int("depth", q.depth, 4, 12));
@@ -128,6 +128,15 @@ const std::vector<EstimatorEntry> kEntries = {
          p["depth"] = q.depth;
          p["samples_per_node"] = q.samples_per_node;
          p["scale"] = q.scale;
+       } else if (q.solver == PoissonSolver::Screened) {
+         q.screened.step = n.get_real("step", q.screened.step, 2e-4, 0.05);
+         q.screened.screening = n.get_real("screening", q.screened.screening, 0, 1e4);
+         q.screened.tolerance = n.get_real("tolerance", q.screened.tolerance, 1e-6, 0.1);
+         q.area_neighbours = static_cast<int>(n.get_int("area_neighbours", q.area_neighbours, 2, 100));
+         p["step"] = q.screened.step;
+         p["screening"] = q.screened.screening;
+         p["tolerance"] = q.screened.tolerance;
+         p["area_neighbours"] = q.area_neighbours;
        } else {
          q.cell = n.get_real("cell", q.cell, 0, 0.05);
          q.step = n.get_real("step", q.step, 2e-4, 0.05);
@@ -138,6 +147,8 @@ const std::vector<EstimatorEntry> kEntries = {
        q.mls.polynomial_order = static_cast<int>(n.get_int("mls_order", q.mls.polynomial_order, 0, 4));
        p["mls_radius"] = q.mls.radius;
        p["mls_order"] = q.mls.polynomial_order;
+       q.mls_positions = n.get_bool("mls_positions", q.mls_positions);
+       p["mls_positions"] = q.mls_positions;
        return [q](const PointCloud& c) { return volume_only(poisson_volume(c, q)); };
      }},
     {"percentile_box_edges", "G_E: two largest edges of the percentile box, and its volume (seed 003 Alg. 1)",

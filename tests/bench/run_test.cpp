@@ -103,6 +103,12 @@ TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
   m = error_of(std::string(kScene) + "  - type: poisson_magic\n");
   EXPECT_NE(m.find("scene.yaml:21"), std::string::npos) << m;
   EXPECT_NE(m.find("allowed: pca_box"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "  - type: poisson\n    solver: screened\n    screening: -1\n");
+  EXPECT_NE(m.find("screening"), std::string::npos) << m;
+  EXPECT_NE(m.find("[0, 10000]"), std::string::npos) << m;
+  // PCL's octree depth means nothing to the screened solver: an unused key.
+  m = error_of(std::string(kScene) + "  - type: poisson\n    solver: screened\n    depth: 9\n");
+  EXPECT_NE(m.find("unknown key 'estimators[3].depth'"), std::string::npos) << m;
   m = error_of(std::string(kScene) + "  - type: voxel\n    voxle_size: 0.01\n");
   EXPECT_NE(m.find("unknown key 'estimators[3].voxle_size'"), std::string::npos) << m;
   m = error_of(std::string(kScene) + "  - type: voxel\n    name: CH\n");
