@@ -9,7 +9,8 @@
 //            (BM_floor_visibility_hull), so it ranks estimators, not absolute error.
 //   surface: points drawn uniformly on the solid's whole boundary with their outward
 //            normals (synth/surface_sample.h): no occlusion, no noise, so volume
-//            error measures the reconstruction alone.
+//            error measures the reconstruction alone. Also over bunches 7-12 and,
+//            for figures no setting was chosen on, 13-18.
 // Poisson needs oriented normals. "centroid" points them away from the centroid
 // (seed 000's choice, wrong on the berry sides that face into the bunch); "facing"
 // turns each toward its point's camera (scan) or sampled normal (surface), in every
@@ -134,18 +135,26 @@ const CloudSet& surface_set() {
   static const CloudSet set{&c};
   return set;
 }
+// `first` (a set's cloud, or none) followed by the surfaces of bunches from..to, built
+// once per set.
+CloudSet surfaces_from(const Cloud* first, std::uint64_t from, std::uint64_t to, std::vector<Cloud>& keep) {
+  for (std::uint64_t seed = from; seed <= to; ++seed) keep.push_back(surface_of(seed));
+  CloudSet out;
+  if (first != nullptr) out.push_back(first);
+  for (const Cloud& c : keep) out.push_back(&c);
+  return out;
+}
 // Bunches 7 (surface_set's) to 12.
 const CloudSet& surfaces6() {
-  static const std::vector<Cloud> more = [] {
-    std::vector<Cloud> out;
-    for (std::uint64_t seed = 8; seed <= 12; ++seed) out.push_back(surface_of(seed));
-    return out;
-  }();
-  static const CloudSet set = [] {
-    CloudSet out = surface_set();
-    for (const Cloud& c : more) out.push_back(&c);
-    return out;
-  }();
+  static std::vector<Cloud> clouds;
+  static const CloudSet set = surfaces_from(surface_set()[0], 8, 12, clouds);
+  return set;
+}
+// Bunches 13 to 18: kept out of every choice of PB's settings (made on bunches 7-12),
+// so their error is a fair forecast.
+const CloudSet& surfaces_held_out() {
+  static std::vector<Cloud> clouds;
+  static const CloudSet set = surfaces_from(nullptr, 13, 18, clouds);
   return set;
 }
 // Signed-tetrahedron volume of a triangle mesh (seed 000 Eq. 11), the same sum for
@@ -226,12 +235,18 @@ void volume_over(benchmark::State& state, const CloudSet& set, F volume_of) {
   state.counters["watertight"] = closed;  // how many of the meshes
 }
 
-// PB with PCL's solver (the default) or CGAL's implicit function contoured on a 2 mm
-// grid (solver: cgal); `cell` thins the points before CGAL's solve (m, 0: all).
-void BM_PB_grapebench(benchmark::State& s, const CloudSet& (*set)(), Orient orient, PoissonSolver solver, double cell) {
+// PB's settings for one benchmark row: the solver (PCL, the default; CGAL's implicit
+// function contoured on a 2 mm grid; screened Poisson on a 1 mm grid), CGAL's thinning
+// cell (m, 0: none), and whether Poisson runs on the MLS-projected points (seed 000)
+// or on the input points with MLS normals.
+PoissonParams pb(PoissonSolver solver, double cell = 0.003, bool mls_positions = true) {
   PoissonParams p;
   p.solver = solver;
   p.cell = cell;
+  p.mls_positions = mls_positions;
+  return p;
+}
+void BM_PB_grapebench(benchmark::State& s, const CloudSet& (*set)(), Orient orient, PoissonParams p) {
   volume_over(s, set(), [&](const Cloud& c) {
     const VolumeEstimate v = poisson_volume(c.cloud, p, orient == Orient::Facing ? c.facing : PointCloud());
     return MeshVolume{v.volume, v.watertight};
@@ -370,22 +385,35 @@ BENCHMARK(BM_AS_open3d)->Unit(benchmark::kMillisecond);
 // Poisson. Names: cloud_orientation[_solver][_setting].
 #define POISSON_BENCHMARK(fn, name, iterations, ...) \
   BENCHMARK_CAPTURE(fn, name, __VA_ARGS__)->Unit(benchmark::kMillisecond)->Iterations(iterations)
-POISSON_BENCHMARK(BM_PB_grapebench, scan_centroid, 2, &scan_set, Orient::Centroid, PoissonSolver::Pcl, 0.003);
-POISSON_BENCHMARK(BM_PB_grapebench, scan_centroid_cgal, 2, &scan_set, Orient::Centroid, PoissonSolver::Cgal, 0.003);
-POISSON_BENCHMARK(BM_PB_grapebench, scan_facing_cgal, 2, &scan_set, Orient::Facing, PoissonSolver::Cgal, 0.003);
+constexpr auto kPcl = PoissonSolver::Pcl, kCgal = PoissonSolver::Cgal, kScreened = PoissonSolver::Screened;
+POISSON_BENCHMARK(BM_PB_grapebench, scan_centroid, 2, &scan_set, Orient::Centroid, pb(kPcl));
+POISSON_BENCHMARK(BM_PB_grapebench, scan_centroid_cgal, 2, &scan_set, Orient::Centroid, pb(kCgal));
+POISSON_BENCHMARK(BM_PB_grapebench, scan_facing_cgal, 2, &scan_set, Orient::Facing, pb(kCgal));
+POISSON_BENCHMARK(BM_PB_grapebench, scan_centroid_screened, 2, &scan_set, Orient::Centroid, pb(kScreened));
+POISSON_BENCHMARK(BM_PB_grapebench, scan_facing_screened, 2, &scan_set, Orient::Facing, pb(kScreened));
+POISSON_BENCHMARK(BM_PB_grapebench, scan_facing_screened_input_points, 2, &scan_set, Orient::Facing, pb(kScreened, 0, false));
 POISSON_BENCHMARK(BM_PB_open3d, scan_centroid, 2, &scan_set, Orient::Centroid);
 POISSON_BENCHMARK(BM_PB_open3d, scan_facing, 2, &scan_set, Orient::Facing);
 POISSON_BENCHMARK(BM_PB_cgal, scan_centroid, 1, &scan_set, Orient::Centroid);
-POISSON_BENCHMARK(BM_PB_grapebench, surface_centroid_cgal, 2, &surface_set, Orient::Centroid, PoissonSolver::Cgal, 0.003);
-POISSON_BENCHMARK(BM_PB_grapebench, surface_facing, 2, &surface_set, Orient::Facing, PoissonSolver::Pcl, 0.003);
-POISSON_BENCHMARK(BM_PB_grapebench, surface_facing_cgal, 2, &surface_set, Orient::Facing, PoissonSolver::Cgal, 0.003);
-POISSON_BENCHMARK(BM_PB_grapebench, surface_facing_cgal_cell2mm, 2, &surface_set, Orient::Facing, PoissonSolver::Cgal, 0.002);
+POISSON_BENCHMARK(BM_PB_grapebench, surface_centroid_cgal, 2, &surface_set, Orient::Centroid, pb(kCgal));
+POISSON_BENCHMARK(BM_PB_grapebench, surface_facing, 2, &surface_set, Orient::Facing, pb(kPcl));
+POISSON_BENCHMARK(BM_PB_grapebench, surface_facing_cgal, 2, &surface_set, Orient::Facing, pb(kCgal));
+POISSON_BENCHMARK(BM_PB_grapebench, surface_facing_cgal_cell2mm, 2, &surface_set, Orient::Facing, pb(kCgal, 0.002));
+POISSON_BENCHMARK(BM_PB_grapebench, surface_facing_screened, 2, &surface_set, Orient::Facing, pb(kScreened));
+POISSON_BENCHMARK(BM_PB_grapebench, surface_facing_screened_input_points, 2, &surface_set, Orient::Facing,
+                  pb(kScreened, 0, false));
 POISSON_BENCHMARK(BM_PB_open3d, surface_facing, 2, &surface_set, Orient::Facing);
 POISSON_BENCHMARK(BM_PB_cgal, surface_facing, 1, &surface_set, Orient::Facing);
-POISSON_BENCHMARK(BM_PB_grapebench, surfaces6_facing_cgal, 1, &surfaces6, Orient::Facing, PoissonSolver::Cgal, 0.003);
-POISSON_BENCHMARK(BM_PB_grapebench, surfaces6_facing_cgal_cell2mm, 1, &surfaces6, Orient::Facing, PoissonSolver::Cgal, 0.002);
+POISSON_BENCHMARK(BM_PB_grapebench, surfaces6_facing_cgal, 1, &surfaces6, Orient::Facing, pb(kCgal));
+POISSON_BENCHMARK(BM_PB_grapebench, surfaces6_facing_cgal_cell2mm, 1, &surfaces6, Orient::Facing, pb(kCgal, 0.002));
+POISSON_BENCHMARK(BM_PB_grapebench, surfaces6_facing_screened, 1, &surfaces6, Orient::Facing, pb(kScreened));
+POISSON_BENCHMARK(BM_PB_grapebench, surfaces6_facing_screened_input_points, 1, &surfaces6, Orient::Facing,
+                  pb(kScreened, 0, false));
 POISSON_BENCHMARK(BM_PB_open3d, surfaces6_facing, 1, &surfaces6, Orient::Facing);
 POISSON_BENCHMARK(BM_PB_cgal, surfaces6_facing, 1, &surfaces6, Orient::Facing);
+POISSON_BENCHMARK(BM_PB_grapebench, held_out6_facing_screened_input_points, 1, &surfaces_held_out, Orient::Facing,
+                  pb(kScreened, 0, false));
+POISSON_BENCHMARK(BM_PB_open3d, held_out6_facing, 1, &surfaces_held_out, Orient::Facing);
 BENCHMARK(BM_floor_visibility_hull)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_VoxelGrid_grapebench)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_VoxelGrid_open3d)->Unit(benchmark::kMillisecond);
