@@ -47,11 +47,10 @@ struct Footprint {
 
 // `shift` (in steps) moves the lattice, e.g. by half a step along an axis for edge midpoints;
 // `cells` is the number of cells per axis on that lattice.
-Footprint footprint(const Grid& g, const Vec3& p, const Vec3& shift, const std::array<int, 3>& cells, std::size_t row_x,
-                    std::size_t row_xy) {
+Footprint footprint(const Grid& g, const Vec3& p, const Vec3& shift, const std::array<int, 3>& cells) {
   std::array<double, 3> t{};
   std::size_t base = 0;
-  const std::array<std::size_t, 3> stride{1, row_x, row_xy};
+  const std::array<std::size_t, 3> stride{g.corner(1), g.corner(2), g.corner(4)};
   for (int k = 0; k < 3; ++k) {
     const double u = (p(k) - g.origin(k)) / g.h - shift(k);
     const int i = std::clamp(static_cast<int>(std::floor(u)), 0, cells[static_cast<std::size_t>(k)] - 1);
@@ -72,7 +71,8 @@ using Field = std::vector<float>;
 
 struct Level {
   Grid g;
-  std::vector<Footprint> points;  // screening footprints
+  std::vector<Footprint> points;  // the points' footprints with their screening weights
+  bool singular = false;          // unscreened: A has the constants as null space
   Field inverse_m;                // the smoother's 1 / M_kk
   std::array<std::size_t, 8> corner{};
   Field x, b, ax;                 // V-cycle workspace
@@ -191,7 +191,7 @@ void coarse_solve(const Level& lv, const Field& b, Field& x) {
   std::vector<double> xd(n, 0), r(b.begin(), b.end()), z(n), p(n);
   // Unscreened, A is singular (constants): solve for the part of b it can reach, and
   // return the solution of zero mean, else round-off along the constants grows.
-  const bool singular = lv.points.empty();
+  const bool singular = lv.singular;
   const auto remove_mean = [&](std::vector<double>& v) {
     double mean = 0;
     for (const double e : v) mean += e;
@@ -359,16 +359,15 @@ ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointC
       for (int a = 0; a < 3; ++a) lv.g.n[static_cast<std::size_t>(a)] = (f.n[static_cast<std::size_t>(a)] - 1) / 2 + 1;
     }
     for (int c = 0; c < 8; ++c) lv.corner[static_cast<std::size_t>(c)] = lv.g.corner(c);
-    if (w > 0) {
-      const std::array<int, 3> cells{lv.g.n[0] - 1, lv.g.n[1] - 1, lv.g.n[2] - 1};
-      lv.points.reserve(areas.size());
-      for (Eigen::Index i = 0; i < points.rows(); ++i) {
-        Footprint f = footprint(lv.g, points.row(i).transpose(), Vec3::Zero(), cells, static_cast<std::size_t>(lv.g.n[0]),
-                                static_cast<std::size_t>(lv.g.n[0]) * static_cast<std::size_t>(lv.g.n[1]));
-        f.weight = w * areas[static_cast<std::size_t>(i)];
-        lv.points.push_back(f);
-      }
+    // Built also when w = 0 (weights 0): the finest level's serve the iso-value.
+    const std::array<int, 3> cells{lv.g.n[0] - 1, lv.g.n[1] - 1, lv.g.n[2] - 1};
+    lv.points.reserve(areas.size());
+    for (Eigen::Index i = 0; i < points.rows(); ++i) {
+      Footprint f = footprint(lv.g, points.row(i).transpose(), Vec3::Zero(), cells);
+      f.weight = w * areas[static_cast<std::size_t>(i)];
+      lv.points.push_back(f);
     }
+    lv.singular = !(w > 0);
     build_smoother(lv);
     lv.x.resize(lv.g.size());
     lv.b.resize(lv.g.size());
@@ -385,8 +384,7 @@ ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointC
     shift(a) = 0.5;
     const std::size_t along = finest.corner(1 << a);
     for (Eigen::Index i = 0; i < points.rows(); ++i) {
-      const Footprint f = footprint(finest, points.row(i).transpose(), shift, cells, static_cast<std::size_t>(n[0]),
-                                    static_cast<std::size_t>(n[0]) * static_cast<std::size_t>(n[1]));
+      const Footprint f = footprint(finest, points.row(i).transpose(), shift, cells);
       const double s = areas[static_cast<std::size_t>(i)] * normals(i, a) / finest.h;
       for (std::size_t c = 0; c < 8; ++c) {
         const std::size_t tail = f.base + levels[0].corner[c];
@@ -410,14 +408,12 @@ ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointC
   // Contour at the points' mean value (Kazhdan & Hoppe 2013 Sec. 4.1: the iso-value is
   // the area-weighted average of chi at the samples).
   double sum = 0, weight = 0;
-  const std::array<int, 3> cells{n[0] - 1, n[1] - 1, n[2] - 1};
-  for (Eigen::Index i = 0; i < points.rows(); ++i) {
-    const Footprint f = footprint(finest, points.row(i).transpose(), Vec3::Zero(), cells, static_cast<std::size_t>(n[0]),
-                                  static_cast<std::size_t>(n[0]) * static_cast<std::size_t>(n[1]));
+  for (std::size_t i = 0; i < areas.size(); ++i) {
+    const Footprint& f = levels[0].points[i];
     double v = 0;
     for (std::size_t c = 0; c < 8; ++c) v += f.w[c] * x[f.base + levels[0].corner[c]];
-    sum += areas[static_cast<std::size_t>(i)] * v;
-    weight += areas[static_cast<std::size_t>(i)];
+    sum += areas[i] * v;
+    weight += areas[i];
   }
   out.iso = sum / weight;
   std::vector<double> values(size);

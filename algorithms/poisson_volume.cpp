@@ -1,5 +1,6 @@
 #include "algorithms/poisson_volume.h"
 
+#include "algorithms/pcl_cloud.h"
 #include "algorithms/poisson_cgal.h"
 
 #include <pcl/PolygonMesh.h>
@@ -140,10 +141,7 @@ void pcl_poisson_mesh(const PointCloud& centred, const PointCloud& normals, cons
 // The surface area each point stands for: pi d^2 / k, d the distance to its k-th
 // neighbour (the disc holding k points at the local density).
 std::vector<double> point_areas(const PointCloud& points, int k) {
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  for (Eigen::Index i = 0; i < points.rows(); ++i) {
-    cloud->push_back(pcl::PointXYZ(static_cast<float>(points(i, 0)), static_cast<float>(points(i, 1)), static_cast<float>(points(i, 2))));
-  }
+  const auto cloud = to_pcl(points);
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
   tree.setInputCloud(cloud);
   const int want = std::min<int>(k + 1, static_cast<int>(points.rows()));  // the point itself comes first

@@ -1,5 +1,7 @@
 #include "algorithms/registration.h"
 
+#include "algorithms/pcl_cloud.h"
+
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/features/normal_3d.h>
@@ -13,16 +15,6 @@
 namespace grapebench {
 
 namespace {
-
-pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const PointCloud& c) {
-  auto out = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  out->resize(static_cast<std::size_t>(c.rows()));
-  for (Eigen::Index i = 0; i < c.rows(); ++i) {
-    (*out)[static_cast<std::size_t>(i)] = pcl::PointXYZ(static_cast<float>(c(i, 0)), static_cast<float>(c(i, 1)),
-                                                        static_cast<float>(c(i, 2)));
-  }
-  return out;
-}
 
 pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const PointCloud& c) {
   const auto xyz = to_pcl(c);
