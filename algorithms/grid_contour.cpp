@@ -11,9 +11,10 @@ namespace {
 // the six tetrahedra of Kuhn's decomposition, which neighbouring cubes share faces
 // with, so the surface closes. Surface vertices sit on grid edges and are shared
 // through the edge's node pair, so the mesh is indexed and closed.
+template <class Value>
 class Contour {
  public:
-  Contour(const std::vector<double>& f, const std::array<int, 3>& n, const Vec3& origin, double step, std::vector<Vec3>& vertices,
+  Contour(const std::vector<Value>& f, const std::array<int, 3>& n, const Vec3& origin, double step, std::vector<Vec3>& vertices,
           std::vector<std::array<int, 3>>& triangles)
       : f_(f), n_(n), origin_(origin), step_(step), vertices_(vertices), triangles_(triangles) {}
 
@@ -74,7 +75,7 @@ class Contour {
     int& id = layers_[static_cast<std::size_t>(z & 1)][static_cast<std::size_t>(lo - z * layer) * 7 + static_cast<std::size_t>(step - 1)];
     if (id < 0) {
       id = static_cast<int>(vertices_.size());
-      const double fa = f_[static_cast<std::size_t>(a)], fb = f_[static_cast<std::size_t>(b)];
+      const double fa = static_cast<double>(f_[static_cast<std::size_t>(a)]), fb = static_cast<double>(f_[static_cast<std::size_t>(b)]);
       const double t = fa / (fa - fb);  // fa < 0 <= fb
       vertices_.push_back(position(a) + t * (position(b) - position(a)));
     }
@@ -128,7 +129,7 @@ class Contour {
     triangle(a, c, d, dir);
   }
 
-  const std::vector<double>& f_;
+  const std::vector<Value>& f_;
   std::array<int, 3> n_;
   Vec3 origin_;
   double step_;
@@ -141,7 +142,12 @@ class Contour {
 
 void contour_grid(const std::vector<double>& values, const std::array<int, 3>& n, const Vec3& origin, double step,
                   std::vector<Vec3>& vertices, std::vector<std::array<int, 3>>& triangles) {
-  Contour(values, n, origin, step, vertices, triangles).run();
+  Contour<double>(values, n, origin, step, vertices, triangles).run();
+}
+
+void contour_grid(const std::vector<float>& values, const std::array<int, 3>& n, const Vec3& origin, double step,
+                  std::vector<Vec3>& vertices, std::vector<std::array<int, 3>>& triangles) {
+  Contour<float>(values, n, origin, step, vertices, triangles).run();
 }
 
 }  // namespace grapebench

@@ -16,5 +16,7 @@ namespace grapebench {
 // when every boundary node is non-negative.
 void contour_grid(const std::vector<double>& values, const std::array<int, 3>& n, const Vec3& origin, double step,
                   std::vector<Vec3>& vertices, std::vector<std::array<int, 3>>& triangles);
+void contour_grid(const std::vector<float>& values, const std::array<int, 3>& n, const Vec3& origin, double step,
+                  std::vector<Vec3>& vertices, std::vector<std::array<int, 3>>& triangles);
 
 }  // namespace grapebench

@@ -42,7 +42,6 @@ struct Grid {
 struct Footprint {
   std::size_t base = 0;
   std::array<double, 8> w{};
-  double weight = 0;  // screening weight of the point, w * a_i
 };
 
 // `shift` (in steps) moves the lattice, e.g. by half a step along an axis for edge midpoints;
@@ -65,32 +64,81 @@ Footprint footprint(const Grid& g, const Vec3& p, const Vec3& shift, const std::
   return f;
 }
 
+// A point's screening term on one level, in the form the solve applies it: the
+// interpolation weights w and the same scaled by the point's weight (w * a_i).
+struct ScreenedPoint {
+  std::size_t base = 0;
+  std::array<float, 8> w{}, weighted{};
+  std::array<std::uint32_t, 8> slot{};  // the corners' places in Level::screened_nodes
+};
+
+// The screening of all the points in one grid cell, summed: the symmetric 8 x 8 matrix
+// sum_i (w a_i) w_i w_i^T on the cell's corners. Cheaper than the points themselves on
+// coarse levels, where many share a cell.
+struct ScreenedCell {
+  std::size_t base = 0;
+  std::array<float, 64> m{};  // row-major, corner by corner
+  std::array<std::uint32_t, 8> slot{};
+};
+
 // Grid fields in single precision: the solve is bound by memory traffic, and its
 // tolerance (1e-3 by default) is far above float's resolution. Sums are in double.
 using Field = std::vector<float>;
 
 struct Level {
   Grid g;
-  std::vector<Footprint> points;  // the points' footprints with their screening weights
+  // The screening term, per point or per cell (one of the two is empty), by base.
+  std::vector<ScreenedPoint> points;
+  std::vector<ScreenedCell> cells;
+  std::vector<std::size_t> screened_nodes;  // the nodes the points touch, ascending
+  Field screening;                          // per screened node: the screening part of A x
   bool singular = false;          // unscreened: A has the constants as null space
   Field inverse_m;                // the smoother's 1 / M_kk
   std::array<std::size_t, 8> corner{};
-  Field x, b, ax;                 // V-cycle workspace
+  Field x, b, ax, x_next;         // V-cycle workspace
 };
 
+// Sum of a_i b_i in double, in eight interleaved partial sums: a fixed order (the
+// same bits on every run) that the compiler can vectorise.
 double dot(const Field& a, const Field& b) {
+  std::array<double, 8> lane{};
+  const std::size_t n = a.size(), whole = n - n % 8;
+  for (std::size_t i = 0; i < whole; i += 8) {
+    for (std::size_t k = 0; k < 8; ++k) lane[k] += static_cast<double>(a[i + k]) * b[i + k];
+  }
   double s = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += static_cast<double>(a[i]) * b[i];
+  for (std::size_t i = whole; i < n; ++i) s += static_cast<double>(a[i]) * b[i];
+  for (const double l : lane) s += l;
   return s;
 }
 
-// y = A x on one level.
-void apply(const Level& lv, const Field& xv, Field& yv) {
+// Calls row(first, ax) for every grid row (x fastest): ax holds (A x) at nodes first,
+// first + 1, ..., one row's worth. A is the grid Laplacian (h L) plus the points'
+// screening, which is gathered first into lv.screening (a few nodes per point) and
+// merged in row by row, so each caller consumes A x in the pass that computes it.
+template <class Row>
+void apply_rows(Level& lv, const Field& xv, Row&& row) {
+  const float* __restrict x = xv.data();
+  std::fill(lv.screening.begin(), lv.screening.end(), 0.f);
+  for (const ScreenedPoint& f : lv.points) {
+    float v = 0;
+    for (std::size_t c = 0; c < 8; ++c) v += f.w[c] * x[f.base + lv.corner[c]];
+    for (std::size_t c = 0; c < 8; ++c) lv.screening[f.slot[c]] += f.weighted[c] * v;
+  }
+  for (const ScreenedCell& cell : lv.cells) {
+    std::array<float, 8> xc{};
+    for (std::size_t d = 0; d < 8; ++d) xc[d] = x[cell.base + lv.corner[d]];
+    for (std::size_t c = 0; c < 8; ++c) {
+      float v = 0;
+      for (std::size_t d = 0; d < 8; ++d) v += cell.m[8 * c + d] * xc[d];
+      lv.screening[cell.slot[c]] += v;
+    }
+  }
   const Grid& g = lv.g;
   const std::size_t sx = 1, sy = static_cast<std::size_t>(g.n[0]), sz = sy * static_cast<std::size_t>(g.n[1]);
   const auto h = static_cast<float>(g.h);
-  const float* __restrict x = xv.data();
-  float* __restrict y = yv.data();
+  std::vector<float> buffer(sy);
+  float* __restrict ax = buffer.data();
   // A node on the boundary has fewer neighbours (the free boundary's graph Laplacian).
   const auto edge_node = [&](int xx, int yy, int z, std::size_t i) {
     float s = 0;
@@ -101,28 +149,93 @@ void apply(const Level& lv, const Field& xv, Field& yv) {
     if (yy + 1 < g.n[1]) s += x[i + sy], ++d;
     if (z > 0) s += x[i - sz], ++d;
     if (z + 1 < g.n[2]) s += x[i + sz], ++d;
-    y[i] = h * (static_cast<float>(d) * x[i] - s);
+    ax[xx] = h * (static_cast<float>(d) * x[i] - s);
   };
+  std::size_t next = 0;  // the first screened node not yet merged
   for (int z = 0; z < g.n[2]; ++z) {
     for (int yy = 0; yy < g.n[1]; ++yy) {
-      const std::size_t row = g.index(0, yy, z);
+      const std::size_t first = g.index(0, yy, z);
       if (yy == 0 || yy + 1 == g.n[1] || z == 0 || z + 1 == g.n[2]) {
-        for (int xx = 0; xx < g.n[0]; ++xx) edge_node(xx, yy, z, row + static_cast<std::size_t>(xx));
-        continue;
+        for (int xx = 0; xx < g.n[0]; ++xx) edge_node(xx, yy, z, first + static_cast<std::size_t>(xx));
+      } else {
+        edge_node(0, yy, z, first);
+        const float* __restrict c = x + first;
+        for (std::size_t i = 1; i + 1 < sy; ++i) {
+          ax[i] = h * (6 * c[i] - c[i - sx] - c[i + sx] - c[i - sy] - c[i + sy] - c[i - sz] - c[i + sz]);
+        }
+        edge_node(g.n[0] - 1, yy, z, first + sy - 1);
       }
-      edge_node(0, yy, z, row);
-      const std::size_t end = row + static_cast<std::size_t>(g.n[0]) - 1;
-      for (std::size_t i = row + 1; i < end; ++i) {
-        y[i] = h * (6 * x[i] - x[i - sx] - x[i + sx] - x[i - sy] - x[i + sy] - x[i - sz] - x[i + sz]);
+      for (; next < lv.screened_nodes.size() && lv.screened_nodes[next] < first + sy; ++next) {
+        ax[lv.screened_nodes[next] - first] += lv.screening[next];
       }
-      edge_node(g.n[0] - 1, yy, z, end);
+      row(first, static_cast<const float*>(ax));
     }
   }
-  for (const Footprint& f : lv.points) {
-    double v = 0;
-    for (std::size_t c = 0; c < 8; ++c) v += f.w[c] * x[f.base + lv.corner[c]];
-    v *= f.weight;
-    for (std::size_t c = 0; c < 8; ++c) y[f.base + lv.corner[c]] += static_cast<float>(f.w[c] * v);
+}
+
+// y = A x on one level.
+void apply(Level& lv, const Field& x, Field& y) {
+  apply_rows(lv, x, [&](std::size_t first, const float* ax) { std::copy(ax, ax + lv.g.n[0], y.data() + first); });
+}
+
+// The points' screening on one level (weight w * area each): per point, or per cell
+// where there are over four points to a cell on average.
+void build_screening(Level& lv, const PointCloud& points, const std::vector<double>& areas, double w) {
+  const std::array<int, 3> cells{lv.g.n[0] - 1, lv.g.n[1] - 1, lv.g.n[2] - 1};
+  struct Weighted {
+    Footprint f;
+    double weight;
+  };
+  std::vector<Weighted> all;
+  all.reserve(areas.size());
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    all.push_back({footprint(lv.g, points.row(i).transpose(), Vec3::Zero(), cells), w * areas[static_cast<std::size_t>(i)]});
+  }
+  std::stable_sort(all.begin(), all.end(), [](const Weighted& a, const Weighted& b) { return a.f.base < b.f.base; });
+  for (const Weighted& p : all) {
+    for (std::size_t c = 0; c < 8; ++c) lv.screened_nodes.push_back(p.f.base + lv.corner[c]);
+  }
+  std::sort(lv.screened_nodes.begin(), lv.screened_nodes.end());
+  lv.screened_nodes.erase(std::unique(lv.screened_nodes.begin(), lv.screened_nodes.end()), lv.screened_nodes.end());
+  lv.screening.resize(lv.screened_nodes.size());
+  const auto slots = [&](std::size_t base) {
+    std::array<std::uint32_t, 8> slot{};
+    for (std::size_t c = 0; c < 8; ++c) {
+      const auto at = std::lower_bound(lv.screened_nodes.begin(), lv.screened_nodes.end(), base + lv.corner[c]);
+      slot[c] = static_cast<std::uint32_t>(at - lv.screened_nodes.begin());
+    }
+    return slot;
+  };
+  std::size_t occupied = 0;
+  for (std::size_t i = 0; i < all.size(); ++i) occupied += i == 0 || all[i].f.base != all[i - 1].f.base;
+  if (4 * occupied < all.size()) {
+    for (std::size_t i = 0; i < all.size();) {
+      std::array<double, 64> m{};
+      const std::size_t base = all[i].f.base;
+      for (; i < all.size() && all[i].f.base == base; ++i) {
+        const Footprint& f = all[i].f;
+        for (std::size_t c = 0; c < 8; ++c) {
+          for (std::size_t d = 0; d < 8; ++d) m[8 * c + d] += all[i].weight * f.w[c] * f.w[d];
+        }
+      }
+      ScreenedCell cell;
+      cell.base = base;
+      for (std::size_t k = 0; k < 64; ++k) cell.m[k] = static_cast<float>(m[k]);
+      cell.slot = slots(base);
+      lv.cells.push_back(cell);
+    }
+    return;
+  }
+  lv.points.reserve(all.size());
+  for (const Weighted& p : all) {
+    ScreenedPoint sp;
+    sp.base = p.f.base;
+    for (std::size_t c = 0; c < 8; ++c) {
+      sp.w[c] = static_cast<float>(p.f.w[c]);
+      sp.weighted[c] = static_cast<float>(p.weight * p.f.w[c]);
+    }
+    sp.slot = slots(sp.base);
+    lv.points.push_back(sp);
   }
 }
 
@@ -140,44 +253,72 @@ void build_smoother(Level& lv) {
       }
     }
   }
-  for (const Footprint& f : lv.points) {
-    for (std::size_t c = 0; c < 8; ++c) m[f.base + lv.corner[c]] += f.weight * f.w[c];
+  for (const ScreenedPoint& f : lv.points) {
+    for (std::size_t c = 0; c < 8; ++c) m[f.base + lv.corner[c]] += f.weighted[c];
+  }
+  for (const ScreenedCell& cell : lv.cells) {
+    for (std::size_t c = 0; c < 8; ++c) {
+      for (std::size_t d = 0; d < 8; ++d) m[cell.base + lv.corner[c]] += cell.m[8 * c + d];
+    }
   }
   lv.inverse_m.resize(g.size());
   for (std::size_t i = 0; i < m.size(); ++i) lv.inverse_m[i] = static_cast<float>(1 / m[i]);
 }
 
-// fine += P coarse (trilinear; coarse node (i, j, k) is fine node (2i, 2j, 2k)).
+// The coarse nodes a fine index (along one axis) interpolates from: fine 2i is coarse i;
+// fine 2i + 1 is half of coarse i and half of i + 1.
+struct Parents {
+  int first = 0;
+  bool odd = false;
+};
+Parents parents(int fine) { return {fine / 2, (fine & 1) != 0}; }
+
+// fine += P coarse (trilinear; coarse node (i, j, k) is fine node (2i, 2j, 2k)),
+// row by row: the y and z weights combine up to four coarse rows, then x interpolates.
 void prolong_add(const Grid& coarse, const Field& xc, const Grid& fine, Field& xf) {
-  std::size_t i = 0;
+  const auto nc = static_cast<std::size_t>(coarse.n[0]);
+  std::vector<float> row(nc);
   for (int z = 0; z < fine.n[2]; ++z) {
+    const Parents pz = parents(z);
     for (int y = 0; y < fine.n[1]; ++y) {
-      for (int x = 0; x < fine.n[0]; ++x, ++i) {
-        float v = 0;
-        const float w = ((x & 1) ? 0.5f : 1.f) * ((y & 1) ? 0.5f : 1.f) * ((z & 1) ? 0.5f : 1.f);
-        for (int c = 0; c < 8; ++c) {
-          const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
-          if ((dx && !(x & 1)) || (dy && !(y & 1)) || (dz && !(z & 1))) continue;
-          v += w * xc[coarse.index(x / 2 + dx, y / 2 + dy, z / 2 + dz)];
+      const Parents py = parents(y);
+      const float w = (pz.odd ? 0.5f : 1.f) * (py.odd ? 0.5f : 1.f);
+      std::fill(row.begin(), row.end(), 0.f);
+      for (int dz = 0; dz <= (pz.odd ? 1 : 0); ++dz) {
+        for (int dy = 0; dy <= (py.odd ? 1 : 0); ++dy) {
+          const float* c = xc.data() + coarse.index(0, py.first + dy, pz.first + dz);
+          for (std::size_t i = 0; i < nc; ++i) row[i] += w * c[i];
         }
-        xf[i] += v;
       }
+      float* f = xf.data() + fine.index(0, y, z);
+      for (std::size_t i = 0; i + 1 < nc; ++i) {
+        f[2 * i] += row[i];
+        f[2 * i + 1] += 0.5f * (row[i] + row[i + 1]);
+      }
+      f[2 * (nc - 1)] += row[nc - 1];
     }
   }
 }
 
-// coarse = P^T fine.
+// coarse = P^T fine: each fine row restricted along x, then added to the up to four
+// coarse rows it interpolates from.
 void restrict_to(const Grid& fine, const Field& rf, const Grid& coarse, Field& rc) {
   std::fill(rc.begin(), rc.end(), 0.f);
-  std::size_t i = 0;
+  const auto nc = static_cast<std::size_t>(coarse.n[0]);
+  std::vector<float> row(nc);
   for (int z = 0; z < fine.n[2]; ++z) {
+    const Parents pz = parents(z);
     for (int y = 0; y < fine.n[1]; ++y) {
-      for (int x = 0; x < fine.n[0]; ++x, ++i) {
-        const float w = ((x & 1) ? 0.5f : 1.f) * ((y & 1) ? 0.5f : 1.f) * ((z & 1) ? 0.5f : 1.f);
-        for (int c = 0; c < 8; ++c) {
-          const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
-          if ((dx && !(x & 1)) || (dy && !(y & 1)) || (dz && !(z & 1))) continue;
-          rc[coarse.index(x / 2 + dx, y / 2 + dy, z / 2 + dz)] += w * rf[i];
+      const Parents py = parents(y);
+      const float w = (pz.odd ? 0.5f : 1.f) * (py.odd ? 0.5f : 1.f);
+      const float* f = rf.data() + fine.index(0, y, z);
+      row[0] = f[0] + 0.5f * f[1];
+      for (std::size_t i = 1; i + 1 < nc; ++i) row[i] = f[2 * i] + 0.5f * (f[2 * i - 1] + f[2 * i + 1]);
+      row[nc - 1] = f[2 * (nc - 1)] + 0.5f * f[2 * (nc - 1) - 1];
+      for (int dz = 0; dz <= (pz.odd ? 1 : 0); ++dz) {
+        for (int dy = 0; dy <= (py.odd ? 1 : 0); ++dy) {
+          float* c = rc.data() + coarse.index(0, py.first + dy, pz.first + dz);
+          for (std::size_t i = 0; i < nc; ++i) c[i] += w * row[i];
         }
       }
     }
@@ -186,7 +327,7 @@ void restrict_to(const Grid& fine, const Field& rf, const Grid& coarse, Field& r
 
 // Conjugate gradients preconditioned by the smoother's diagonal, from x = 0; solves
 // the coarsest level (at most 32768 nodes) to round-off.
-void coarse_solve(const Level& lv, const Field& b, Field& x) {
+void coarse_solve(Level& lv, const Field& b, Field& x) {
   const std::size_t n = b.size();
   std::vector<double> xd(n, 0), r(b.begin(), b.end()), z(n), p(n);
   // Unscreened, A is singular (constants): solve for the part of b it can reach, and
@@ -230,28 +371,36 @@ void coarse_solve(const Level& lv, const Field& b, Field& x) {
 
 constexpr int kSweeps = 2;  // smoothing sweeps before and after each coarse correction
 
-// levels[l].x = V(levels[l].b): one V-cycle from x = 0, symmetric (as many sweeps
-// after the coarse correction as before), so it can precondition conjugate gradients.
-void v_cycle(std::vector<Level>& levels, std::size_t l) {
+// levels[l].x = V(b): one V-cycle from x = 0, symmetric (as many sweeps after the
+// coarse correction as before), so it can precondition conjugate gradients. The
+// coarser levels take their right-hand side in their own b.
+void v_cycle(std::vector<Level>& levels, std::size_t l, const Field& b) {
   Level& lv = levels[l];
   if (l + 1 == levels.size()) {
-    coarse_solve(lv, lv.b, lv.x);
+    coarse_solve(lv, b, lv.x);
     return;
   }
-  Field &x = lv.x, &b = lv.b, &ax = lv.ax;
-  const std::size_t n = b.size();
-  for (std::size_t i = 0; i < n; ++i) x[i] = lv.inverse_m[i] * b[i];
+  const std::size_t n = b.size(), row = static_cast<std::size_t>(lv.g.n[0]);
+  for (std::size_t i = 0; i < n; ++i) lv.x[i] = lv.inverse_m[i] * b[i];
+  // One damped Jacobi sweep x += M^-1 (b - A x), into x_next in the pass that computes A x.
   const auto sweep = [&] {
-    apply(lv, x, ax);
-    for (std::size_t i = 0; i < n; ++i) x[i] += lv.inverse_m[i] * (b[i] - ax[i]);
+    const float* __restrict x = lv.x.data();
+    const float* __restrict m = lv.inverse_m.data();
+    float* __restrict out = lv.x_next.data();
+    apply_rows(lv, lv.x, [&](std::size_t first, const float* __restrict ax) {
+      for (std::size_t i = 0; i < row; ++i) out[first + i] = x[first + i] + m[first + i] * (b[first + i] - ax[i]);
+    });
+    lv.x.swap(lv.x_next);
   };
   for (int s = 1; s < kSweeps; ++s) sweep();
-  apply(lv, x, ax);
-  for (std::size_t i = 0; i < n; ++i) ax[i] = b[i] - ax[i];
+  float* __restrict residual = lv.ax.data();
+  apply_rows(lv, lv.x, [&](std::size_t first, const float* __restrict ax) {
+    for (std::size_t i = 0; i < row; ++i) residual[first + i] = b[first + i] - ax[i];
+  });
   Level& coarse = levels[l + 1];
-  restrict_to(lv.g, ax, coarse.g, coarse.b);
-  v_cycle(levels, l + 1);
-  prolong_add(coarse.g, coarse.x, lv.g, x);
+  restrict_to(lv.g, lv.ax, coarse.g, coarse.b);
+  v_cycle(levels, l + 1, coarse.b);
+  prolong_add(coarse.g, coarse.x, lv.g, lv.x);
   for (int s = 0; s < kSweeps; ++s) sweep();
 }
 
@@ -261,37 +410,34 @@ struct Solve {
   double residual = 0;  // relative to |b|
 };
 
-// Conjugate gradients on level l from the guess x, preconditioned by one V-cycle.
-Solve conjugate_gradients(std::vector<Level>& levels, std::size_t l, const Field& b, Field x, double tolerance, int max_iterations) {
-  Level& lv = levels[l];
+// Conjugate gradients on the finest level from x = 0, preconditioned by one V-cycle.
+// b is taken over as the residual.
+Solve conjugate_gradients(std::vector<Level>& levels, Field b, double tolerance, int max_iterations) {
+  Level& lv = levels[0];
   const std::size_t size = b.size();
   Solve out;
-  Field r(size), dir(size), q(size);
-  apply(lv, x, q);
-  for (std::size_t i = 0; i < size; ++i) r[i] = b[i] - q[i];
-  const double b_norm = std::sqrt(dot(b, b));
-  out.residual = b_norm > 0 ? std::sqrt(dot(r, r)) / b_norm : 0;
-  if (out.residual > tolerance) {
-    lv.b = r;
-    v_cycle(levels, l);
-    dir = lv.x;
-    double rz = dot(r, lv.x);
-    while (out.iterations < max_iterations) {
-      ++out.iterations;
-      apply(lv, dir, q);
-      const auto a = static_cast<float>(rz / dot(dir, q));
-      for (std::size_t i = 0; i < size; ++i) x[i] += a * dir[i], r[i] -= a * q[i];
-      out.residual = std::sqrt(dot(r, r)) / b_norm;
-      if (out.residual <= tolerance) break;
-      lv.b = r;
-      v_cycle(levels, l);
-      const double rz_next = dot(r, lv.x);
-      const auto beta = static_cast<float>(rz_next / rz);
-      for (std::size_t i = 0; i < size; ++i) dir[i] = lv.x[i] + beta * dir[i];
-      rz = rz_next;
-    }
+  out.x.assign(size, 0.f);
+  Field& x = out.x;
+  Field r = std::move(b), dir(size), q(size);
+  const double b_norm = std::sqrt(dot(r, r));
+  out.residual = b_norm > 0 ? 1 : 0;
+  if (out.residual <= tolerance) return out;
+  v_cycle(levels, 0, r);
+  dir = lv.x;
+  double rz = dot(r, lv.x);
+  while (out.iterations < max_iterations) {
+    ++out.iterations;
+    apply(lv, dir, q);
+    const auto a = static_cast<float>(rz / dot(dir, q));
+    for (std::size_t i = 0; i < size; ++i) x[i] += a * dir[i], r[i] -= a * q[i];
+    out.residual = std::sqrt(dot(r, r)) / b_norm;
+    if (out.residual <= tolerance) break;
+    v_cycle(levels, 0, r);
+    const double rz_next = dot(r, lv.x);
+    const auto beta = static_cast<float>(rz_next / rz);
+    for (std::size_t i = 0; i < size; ++i) dir[i] = lv.x[i] + beta * dir[i];
+    rz = rz_next;
   }
-  out.x = std::move(x);
   return out;
 }
 
@@ -359,24 +505,18 @@ ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointC
       for (int a = 0; a < 3; ++a) lv.g.n[static_cast<std::size_t>(a)] = (f.n[static_cast<std::size_t>(a)] - 1) / 2 + 1;
     }
     for (int c = 0; c < 8; ++c) lv.corner[static_cast<std::size_t>(c)] = lv.g.corner(c);
-    // Built also when w = 0 (weights 0): the finest level's serve the iso-value.
-    const std::array<int, 3> cells{lv.g.n[0] - 1, lv.g.n[1] - 1, lv.g.n[2] - 1};
-    lv.points.reserve(areas.size());
-    for (Eigen::Index i = 0; i < points.rows(); ++i) {
-      Footprint f = footprint(lv.g, points.row(i).transpose(), Vec3::Zero(), cells);
-      f.weight = w * areas[static_cast<std::size_t>(i)];
-      lv.points.push_back(f);
-    }
     lv.singular = !(w > 0);
+    if (!lv.singular) build_screening(lv, points, areas, w);
     build_smoother(lv);
     lv.x.resize(lv.g.size());
-    lv.b.resize(lv.g.size());
+    lv.x_next.resize(lv.g.size());
+    if (l > 0) lv.b.resize(lv.g.size());  // the finest level's is the solve's residual
     lv.ax.resize(lv.g.size());
   }
 
   // b: the splatted normals' divergence. Edges along axis a join node j to j + e_a;
   // their midpoints form a lattice shifted half a step along a.
-  std::vector<double> divergence(finest.size(), 0);
+  Field divergence(finest.size(), 0.f);
   for (int a = 0; a < 3; ++a) {
     std::array<int, 3> cells{n[0] - 1, n[1] - 1, n[2] - 1};
     --cells[static_cast<std::size_t>(a)];
@@ -388,8 +528,8 @@ ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointC
       const double s = areas[static_cast<std::size_t>(i)] * normals(i, a) / finest.h;
       for (std::size_t c = 0; c < 8; ++c) {
         const std::size_t tail = f.base + levels[0].corner[c];
-        divergence[tail] -= s * f.w[c];
-        divergence[tail + along] += s * f.w[c];
+        divergence[tail] -= static_cast<float>(s * f.w[c]);
+        divergence[tail + along] += static_cast<float>(s * f.w[c]);
       }
     }
   }
@@ -397,10 +537,8 @@ ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointC
   ScreenedPoissonMesh out;
   out.grid = n;
   out.levels = static_cast<int>(levels.size());
-  const Field rhs(divergence.begin(), divergence.end());
-  divergence = std::vector<double>();
-  const Solve solved = conjugate_gradients(levels, 0, rhs, Field(rhs.size(), 0), p.tolerance, p.max_iterations);
-  const Field& x = solved.x;
+  Solve solved = conjugate_gradients(levels, std::move(divergence), p.tolerance, p.max_iterations);
+  Field& x = solved.x;
   out.iterations = solved.iterations;
   out.residual = solved.residual;
   const std::size_t size = finest.size();
@@ -408,17 +546,17 @@ ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointC
   // Contour at the points' mean value (Kazhdan & Hoppe 2013 Sec. 4.1: the iso-value is
   // the area-weighted average of chi at the samples).
   double sum = 0, weight = 0;
-  for (std::size_t i = 0; i < areas.size(); ++i) {
-    const Footprint& f = levels[0].points[i];
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const Footprint f = footprint(finest, points.row(i).transpose(), Vec3::Zero(), {n[0] - 1, n[1] - 1, n[2] - 1});
     double v = 0;
     for (std::size_t c = 0; c < 8; ++c) v += f.w[c] * x[f.base + levels[0].corner[c]];
-    sum += areas[i] * v;
-    weight += areas[i];
+    sum += areas[static_cast<std::size_t>(i)] * v;
+    weight += areas[static_cast<std::size_t>(i)];
   }
   out.iso = sum / weight;
-  std::vector<double> values(size);
-  for (std::size_t i = 0; i < size; ++i) values[i] = x[i] - out.iso;
-  contour_grid(values, n, finest.origin, finest.h, out.vertices, out.triangles);
+  const auto iso = static_cast<float>(out.iso);
+  for (std::size_t i = 0; i < size; ++i) x[i] -= iso;
+  contour_grid(x, n, finest.origin, finest.h, out.vertices, out.triangles);
   return out;
 }
 
