@@ -59,7 +59,7 @@ const std::vector<EstimatorEntry> kEntries = {
     {"pca_box", "PCA-frame bounding box height/length/width (seed 000 Eq. 5, seed 002 Eqs. 7-9)",
      {Quantity::Height, Quantity::Length, Quantity::Width},
      [](const ConfigNode&, nlohmann::ordered_json&) -> BoundEstimator {
-       return [](const PointCloud& c) {
+       return [](const PointCloud& c, const PointCloud&) {
          const PcaBox b = pca_box(c);
          return Estimate{{{Quantity::Height, b.height}, {Quantity::Length, b.length}, {Quantity::Width, b.width}}, false, {}};
        };
@@ -76,7 +76,7 @@ const std::vector<EstimatorEntry> kEntries = {
        p["outline"] = s.outline;
        p["angular_bins"] = s.angular_bins;
        p["tension"] = s.tension;
-       return [s](const PointCloud& c) {
+       return [s](const PointCloud& c, const PointCloud&) {
          const SectionPerimeters r = section_perimeters(c, s);
          Estimate e;
          e.values = {{Quantity::PerimeterH, r.perimeter(0)}, {Quantity::PerimeterL, r.perimeter(1)}, {Quantity::PerimeterW, r.perimeter(2)}};
@@ -87,12 +87,12 @@ const std::vector<EstimatorEntry> kEntries = {
     {"cylinder_model", "GM: cylinder of diameter max(l, w) and height h (seed 000 Eq. 6)",
      {Quantity::Volume},
      [](const ConfigNode&, nlohmann::ordered_json&) -> BoundEstimator {
-       return [](const PointCloud& c) { return volume_only(cylinder_model_volume(c)); };
+       return [](const PointCloud& c, const PointCloud&) { return volume_only(cylinder_model_volume(c)); };
      }},
     {"convex_hull", "CH: convex hull volume (seed 000; CGAL quickhull)",
      {Quantity::Volume},
      [](const ConfigNode&, nlohmann::ordered_json&) -> BoundEstimator {
-       return [](const PointCloud& c) { return volume_only(convex_hull_volume(c)); };
+       return [](const PointCloud& c, const PointCloud&) { return volume_only(convex_hull_volume(c)); };
      }},
     {"alpha_shape", "AS: solid alpha complex volume (seed 000; CGAL), alpha as a radius in m",
      {Quantity::Volume},
@@ -100,7 +100,7 @@ const std::vector<EstimatorEntry> kEntries = {
        AlphaShapeParams a;
        a.alpha = n.get_real("alpha", a.alpha, 1e-4, 10);
        p["alpha"] = a.alpha;
-       return [a](const PointCloud& c) { return volume_only(alpha_shape_volume(c, a)); };
+       return [a](const PointCloud& c, const PointCloud&) { return volume_only(alpha_shape_volume(c, a)); };
      }},
     {"voxel", "VB: voxel counting (seed 000 Eq. 7), voxel edge in m",
      {Quantity::Volume},
@@ -112,7 +112,7 @@ const std::vector<EstimatorEntry> kEntries = {
        p["voxel_size"] = v.voxel_size;
        p["fill_interior"] = v.fill_interior;
        p["max_cells"] = v.max_cells;
-       return [v](const PointCloud& c) { return volume_only(voxel_volume(c, v)); };
+       return [v](const PointCloud& c, const PointCloud&) { return volume_only(voxel_volume(c, v)); };
      }},
     {"poisson", "PB: Poisson reconstruction from MLS normals, signed-tetrahedron volume (seed 000 Eq. 11; PCL, CGAL with solver: cgal, or screened Poisson with solver: screened)",
      {Quantity::Volume},
@@ -149,13 +149,24 @@ const std::vector<EstimatorEntry> kEntries = {
        p["mls_order"] = q.mls.polynomial_order;
        q.mls_positions = n.get_bool("mls_positions", q.mls_positions);
        p["mls_positions"] = q.mls_positions;
-       return [q](const PointCloud& c) { return volume_only(poisson_volume(c, q)); };
+       // centroid: seed 000's sign rule (mls_smooth); facing: each normal turned toward
+       // the camera that saw its point (PCL's flipNormalTowardsViewpoint).
+       const bool facing = n.get_choice("orient", "centroid", {"centroid", "facing"}) == "facing";
+       p["orient"] = facing ? "facing" : "centroid";
+       return [q, facing](const PointCloud& c, const PointCloud& viewpoints) {
+         if (!facing) return volume_only(poisson_volume(c, q));
+         if (viewpoints.rows() != c.rows()) {
+           throw InputError("poisson: orient: facing needs the camera of every point, and this pipeline gives " +
+                            std::to_string(viewpoints.rows()) + " for " + std::to_string(c.rows()) + " points");
+         }
+         return volume_only(poisson_volume(c, q, viewpoints - c));
+       };
      }},
     {"percentile_box_edges", "G_E: two largest edges of the percentile box, and its volume (seed 003 Alg. 1)",
      {Quantity::SizeMajor, Quantity::SizeMinor, Quantity::Volume},
      [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundEstimator {
        const PercentileBoxParams b = read_percentile_alpha(n, p);
-       return [b](const PointCloud& c) {
+       return [b](const PointCloud& c, const PointCloud&) {
          const PercentileBox box = percentile_box(c, b);
          Estimate e = size_pair(box.edges[0], box.edges[1]);
          e.values.push_back({Quantity::Volume, box.volume()});
@@ -166,7 +177,7 @@ const std::vector<EstimatorEntry> kEntries = {
      {Quantity::SizeMajor, Quantity::SizeMinor},
      [](const ConfigNode& n, nlohmann::ordered_json& p) -> BoundEstimator {
        const PercentileBoxParams b = read_percentile_alpha(n, p);
-       return [b](const PointCloud& c) {
+       return [b](const PointCloud& c, const PointCloud&) {
          const PercentileBox box = percentile_box(c, b);
          return size_pair(box.diagonals[0], box.diagonals[1]);
        };
@@ -179,7 +190,7 @@ const std::vector<EstimatorEntry> kEntries = {
        const std::string measure = n.get_choice("measure", "radii", {"radii", "diameters"});
        p["measure"] = measure;
        const double k = measure == "radii" ? 1.0 : 2.0;
-       return [k](const PointCloud& c) {
+       return [k](const PointCloud& c, const PointCloud&) {
          const EllipsoidFit f = ellipsoid_fit(c);
          return size_pair(k * f.radii[0], k * f.radii[1]);
        };
@@ -201,7 +212,7 @@ const std::vector<EstimatorEntry> kEntries = {
        p["max_iterations"] = f.max_iterations;
        p["normal_weight"] = f.normal_weight;
        p["normal_k"] = f.normal_k;
-       return [f](const PointCloud& c) {
+       return [f](const PointCloud& c, const PointCloud&) {
          const CylinderFit fit = cylinder_fit(c, f);
          return size_pair(fit.diameter, fit.height);
        };
@@ -225,7 +236,7 @@ const std::vector<EstimatorEntry> kEntries = {
        for (Quantity k : x.quantities) q.push_back(quantity_name(k));
        p["quantities"] = q;
        p["timeout_s"] = x.timeout;
-       return [x](const PointCloud& c) { return external_estimate(c, x); };
+       return [x](const PointCloud& c, const PointCloud&) { return external_estimate(c, x); };
      }},
 };
 

@@ -34,8 +34,10 @@ struct Estimate {
 };
 
 // An estimator with its parameters bound (parsed and range-checked when the scene is
-// read, so a bad parameter fails before any work starts).
-using BoundEstimator = std::function<Estimate(const PointCloud& registered_bunch)>;
+// read, so a bad parameter fails before any work starts). It gets the bunch's cloud
+// (N x 3, m) and, one row per point in the same frame, the centre of the camera that
+// saw the point (N x 3, m; empty where the pipeline does not know it).
+using BoundEstimator = std::function<Estimate(const PointCloud& registered_bunch, const PointCloud& viewpoints)>;
 
 struct EstimatorEntry {
   std::string type;

@@ -94,7 +94,7 @@ std::string case_key(const Condition& condition, const BunchJob& job) {
 }
 
 std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
-                                        const GroundTruth& gt, const std::string& cloud_error) {
+                                        const PointCloud& viewpoints, const GroundTruth& gt, const std::string& cloud_error) {
   std::vector<EstimateRow> rows;
   for (const auto& spec : specs) {
     Estimate est;
@@ -104,7 +104,7 @@ std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs,
       const HeapMeter meter;
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        est = spec.run(cloud);
+        est = spec.run(cloud, viewpoints);
       } catch (const std::exception& e) {
         error = e.what();
       }
@@ -145,7 +145,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
   r.preset = job.preset;
   r.seed = job.seed;
   r.key = case_key(condition, job);
-  PointCloud merged;
+  PointCloud merged, viewpoints;  // the bunch cloud and, per point, its camera centre
   GroundTruth gt;
   EstimateRow floor_row;  // the rig's visibility hull, when the pipeline asks for it
   floor_row.estimator = floor_row.type = "visibility_hull";
@@ -255,12 +255,16 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
         r.translation_error_mean_mm = tsum / static_cast<double>(views.size() - 1);
       }
     }
-    // The registered cloud: every view under its pose, in view order, with its labels.
+    // The registered cloud: every view under its pose, in view order, with its labels
+    // and views (a view's points are in its camera's frame, so the pose carries the
+    // camera centre to poses[k].translation()).
     std::vector<Vec3> pts;
     std::vector<std::uint8_t> labels;
+    std::vector<std::size_t> seen_by;
     for (std::size_t k = 0; k < views.size(); ++k) {
       for (Eigen::Index i = 0; i < views[k].points.rows(); ++i) pts.push_back(poses[k] * views[k].points.row(i).transpose());
       labels.insert(labels.end(), view_labels[k].begin(), view_labels[k].end());
+      seen_by.insert(seen_by.end(), static_cast<std::size_t>(views[k].points.rows()), k);
     }
     merged = to_point_cloud(pts);
     r.registration_seconds = seconds_since(t0);
@@ -271,7 +275,15 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
       return static_cast<double>(std::count(labels.begin(), labels.end(), static_cast<std::uint8_t>(part)));
     };
     const double peduncle_before = count(Part::Peduncle), body_before = static_cast<double>(kept_bunch) - peduncle_before;
-    apply_filters(pl.cloud_filters, merged, labels);
+    std::vector<std::pair<std::uint8_t, std::size_t>> carried(labels.size());
+    for (std::size_t i = 0; i < labels.size(); ++i) carried[i] = {labels[i], seen_by[i]};
+    apply_filters(pl.cloud_filters, merged, carried);
+    labels.resize(carried.size());
+    viewpoints.resize(merged.rows(), 3);
+    for (std::size_t i = 0; i < carried.size(); ++i) {
+      labels[i] = carried[i].first;
+      viewpoints.row(static_cast<Eigen::Index>(i)) = poses[carried[i].second].translation().transpose();
+    }
     if (!pl.cloud_filters.empty()) {
       r.peduncle_kept = peduncle_before > 0 ? count(Part::Peduncle) / peduncle_before : 0;
       const double body_after = static_cast<double>(std::count_if(labels.begin(), labels.end(), is_bunch)) - count(Part::Peduncle);
@@ -289,7 +301,7 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
     r.error = e.what();
   }
   if (scene.pipeline.registration == "single_frame") return r;  // its rows are per frame
-  r.rows = run_estimators(scene.estimators, merged, gt, r.ok ? "" : "no cloud: " + r.error);
+  r.rows = run_estimators(scene.estimators, merged, viewpoints, gt, r.ok ? "" : "no cloud: " + r.error);
   if (scene.pipeline.visibility_hull > 0) r.rows.push_back(floor_row);
   return r;
 }

@@ -77,8 +77,9 @@ void apply_filters(const std::vector<FilterSpec>& steps, PointCloud& cloud, std:
 
 // The rows of every estimator of `specs` on one cloud, timed, with their truths; when
 // `cloud_error` is set the cloud could not be made and every row fails with it.
+// viewpoints: per point, the centre of the camera that saw it (N x 3, the cloud's frame).
 std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
-                                        const GroundTruth& gt, const std::string& cloud_error);
+                                        const PointCloud& viewpoints, const GroundTruth& gt, const std::string& cloud_error);
 
 // Runs a case; errors of the bunch's scan or an estimator are recorded, not thrown.
 CaseResult run_case(const Condition& condition, int condition_index, const BunchJob& job);

@@ -95,7 +95,9 @@ void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt,
         auto_bunch += bunch;
       }
       const std::string error = tuned.empty() ? "fine tuning found no grape-coloured cluster in the ROI" : "";
-      for (EstimateRow row : run_estimators(scene.estimators, sub, gt, error)) {
+      // The frame's points are in its camera's frame: every viewpoint is the origin.
+      const PointCloud at_camera = PointCloud::Zero(sub.rows(), 3);
+      for (EstimateRow row : run_estimators(scene.estimators, sub, at_camera, gt, error)) {
         row.frame = static_cast<int>(k);
         row.roi = roi.kind;
         row.region = roi.index;
