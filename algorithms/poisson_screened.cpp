@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace grapebench {
@@ -556,6 +557,18 @@ ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointC
   out.iso = sum / weight;
   const auto iso = static_cast<float>(out.iso);
   for (std::size_t i = 0; i < size; ++i) x[i] -= iso;
+  // Where the points leave the surface open (a stalk's cut end, a side no camera saw),
+  // the inside can run out to the grid's boundary. Those boundary nodes are set just
+  // outside, so the mesh is capped there and closed.
+  const auto cap = [&](std::size_t i) {
+    if (x[i] < 0) x[i] = std::numeric_limits<float>::min(), ++out.capped;
+  };
+  for (int z = 0; z < n[2]; ++z) {
+    for (int y = 0; y < n[1]; ++y) {
+      const bool face = z == 0 || y == 0 || z + 1 == n[2] || y + 1 == n[1];
+      for (int xx = 0; xx < n[0]; xx += face ? 1 : n[0] - 1) cap(finest.index(xx, y, z));
+    }
+  }
   contour_grid(x, n, finest.origin, finest.h, out.vertices, out.triangles);
   return out;
 }

@@ -38,12 +38,14 @@ struct ScreenedPoissonMesh {
   int iterations = 0;                         // conjugate-gradient iterations used
   double residual = 0;                        // final relative residual
   double iso = 0;                             // contoured value: the area-weighted mean of chi at the points
+  std::size_t capped = 0;                     // grid-boundary nodes inside, set outside to close the mesh
 };
 
 // points, normals: N x 3 (m; unit, outward). areas: N, the surface area each point
 // stands for (m2, > 0), which weights its normal (Kazhdan et al. 2006 Sec. 4.3) and its
 // screening. The grid covers the points' bounding box plus four steps and some
-// rounding. Throws InputError on mismatched sizes, non-finite or non-positive input, a
+// rounding. Where the points leave a side open, so that the inside reaches the grid's
+// boundary, the mesh is capped on the boundary (`capped`): it is always closed. Throws InputError on mismatched sizes, non-finite or non-positive input, a
 // parameter out of range, or a grid of more than 5e7 nodes.
 ScreenedPoissonMesh screened_poisson_mesh(const PointCloud& points, const PointCloud& normals,
                                           const std::vector<double>& areas, const ScreenedPoissonParams& params = {});

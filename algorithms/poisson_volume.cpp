@@ -214,7 +214,8 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, c
     e.mesh_triangles = std::move(m.triangles);
     solver_note = "screened, grid " + std::to_string(m.grid[0]) + " x " + std::to_string(m.grid[1]) + " x " + std::to_string(m.grid[2]) +
                   ", " + std::to_string(m.levels) + " levels, " + std::to_string(m.iterations) + " iterations to residual " +
-                  std::to_string(m.residual);
+                  std::to_string(m.residual) +
+                  (m.capped ? ", capped at " + std::to_string(m.capped) + " grid-boundary nodes (an open side)" : "");
   } else {
     pcl_poisson_mesh(centred, s.normals, p, local, e.mesh_triangles);
     solver_note = "PCL depth " + std::to_string(p.depth);

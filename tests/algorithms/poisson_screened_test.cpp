@@ -87,6 +87,26 @@ TEST(ScreenedPoisson, ScreeningHoldsTheSurfaceToThePoints) {
   EXPECT_LT(std::abs(e_screened), 0.5 * std::abs(e_plain));
 }
 
+// A sphere seen only above its equator (a side no camera saw): the inside runs out
+// through the open side to the grid's boundary, where the mesh is capped, so it is
+// still closed. A closed sphere needs no cap.
+TEST(ScreenedPoisson, AnOpenSideIsCappedAtTheGridBoundary) {
+  const Oriented whole = balls({{Vec3::Zero(), 0.02}}, 8000);
+  std::vector<Eigen::Index> upper;
+  for (Eigen::Index i = 0; i < whole.points.rows(); ++i) {
+    if (whole.points(i, 2) > 0) upper.push_back(i);
+  }
+  const PointCloud points = whole.points(upper, Eigen::all), normals = whole.normals(upper, Eigen::all);
+  const std::vector<double> areas(upper.size(), whole.areas[0]);
+  const ScreenedPoissonMesh open = screened_poisson_mesh(points, normals, areas);
+  const ScreenedPoissonMesh closed = screened_poisson_mesh(whole.points, whole.normals, whole.areas);
+  std::printf("[screened] upper hemisphere: %zu boundary nodes capped, volume %.1f cm3 (ball %.1f)\n", open.capped,
+              1e6 * volume_of(open), 1e6 * 4.0 / 3.0 * M_PI * 0.02 * 0.02 * 0.02);
+  EXPECT_GT(open.capped, 0u);
+  EXPECT_TRUE(mesh_is_watertight(open.triangles));
+  EXPECT_EQ(closed.capped, 0u);
+}
+
 TEST(ScreenedPoisson, SameInputSameBits) {
   const Oriented s = balls({{Vec3::Zero(), 0.02}}, 5000);
   const ScreenedPoissonMesh a = screened_poisson_mesh(s.points, s.normals, s.areas);
