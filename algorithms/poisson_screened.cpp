@@ -266,39 +266,43 @@ void build_smoother(Level& lv) {
   for (std::size_t i = 0; i < m.size(); ++i) lv.inverse_m[i] = static_cast<float>(1 / m[i]);
 }
 
-// The coarse nodes a fine index (along one axis) interpolates from: fine 2i is coarse i;
-// fine 2i + 1 is half of coarse i and half of i + 1.
-struct Parents {
-  int first = 0;
-  bool odd = false;
-};
-Parents parents(int fine) { return {fine / 2, (fine & 1) != 0}; }
+// Calls visit(fine_row, parent_rows, parents, w) for every fine row (y, z), x fastest:
+// the first `parents` entries of parent_rows start the coarse rows it interpolates from
+// in y and z (coarse node (i, j, k) is fine node (2i, 2j, 2k); an odd fine index is half
+// of each coarse neighbour), each with weight w.
+template <class Visit>
+void each_fine_row(const Grid& fine, const Grid& coarse, Visit&& visit) {
+  for (int z = 0; z < fine.n[2]; ++z) {
+    for (int y = 0; y < fine.n[1]; ++y) {
+      const bool odd_z = (z & 1) != 0, odd_y = (y & 1) != 0;
+      std::array<std::size_t, 4> rows{};
+      int parents = 0;
+      for (int dz = 0; dz <= (odd_z ? 1 : 0); ++dz) {
+        for (int dy = 0; dy <= (odd_y ? 1 : 0); ++dy) rows[static_cast<std::size_t>(parents++)] = coarse.index(0, y / 2 + dy, z / 2 + dz);
+      }
+      visit(fine.index(0, y, z), rows, parents, (odd_z ? 0.5f : 1.f) * (odd_y ? 0.5f : 1.f));
+    }
+  }
+}
 
-// fine += P coarse (trilinear; coarse node (i, j, k) is fine node (2i, 2j, 2k)),
-// row by row: the y and z weights combine up to four coarse rows, then x interpolates.
+// fine += P coarse (trilinear), row by row: the y and z weights combine up to four
+// coarse rows, then x interpolates.
 void prolong_add(const Grid& coarse, const Field& xc, const Grid& fine, Field& xf) {
   const auto nc = static_cast<std::size_t>(coarse.n[0]);
   std::vector<float> row(nc);
-  for (int z = 0; z < fine.n[2]; ++z) {
-    const Parents pz = parents(z);
-    for (int y = 0; y < fine.n[1]; ++y) {
-      const Parents py = parents(y);
-      const float w = (pz.odd ? 0.5f : 1.f) * (py.odd ? 0.5f : 1.f);
-      std::fill(row.begin(), row.end(), 0.f);
-      for (int dz = 0; dz <= (pz.odd ? 1 : 0); ++dz) {
-        for (int dy = 0; dy <= (py.odd ? 1 : 0); ++dy) {
-          const float* c = xc.data() + coarse.index(0, py.first + dy, pz.first + dz);
-          for (std::size_t i = 0; i < nc; ++i) row[i] += w * c[i];
-        }
-      }
-      float* f = xf.data() + fine.index(0, y, z);
-      for (std::size_t i = 0; i + 1 < nc; ++i) {
-        f[2 * i] += row[i];
-        f[2 * i + 1] += 0.5f * (row[i] + row[i + 1]);
-      }
-      f[2 * (nc - 1)] += row[nc - 1];
+  each_fine_row(fine, coarse, [&](std::size_t first, const std::array<std::size_t, 4>& rows, int parents, float w) {
+    std::fill(row.begin(), row.end(), 0.f);
+    for (int k = 0; k < parents; ++k) {
+      const float* c = xc.data() + rows[static_cast<std::size_t>(k)];
+      for (std::size_t i = 0; i < nc; ++i) row[i] += w * c[i];
     }
-  }
+    float* f = xf.data() + first;
+    for (std::size_t i = 0; i + 1 < nc; ++i) {
+      f[2 * i] += row[i];
+      f[2 * i + 1] += 0.5f * (row[i] + row[i + 1]);
+    }
+    f[2 * (nc - 1)] += row[nc - 1];
+  });
 }
 
 // coarse = P^T fine: each fine row restricted along x, then added to the up to four
@@ -307,23 +311,16 @@ void restrict_to(const Grid& fine, const Field& rf, const Grid& coarse, Field& r
   std::fill(rc.begin(), rc.end(), 0.f);
   const auto nc = static_cast<std::size_t>(coarse.n[0]);
   std::vector<float> row(nc);
-  for (int z = 0; z < fine.n[2]; ++z) {
-    const Parents pz = parents(z);
-    for (int y = 0; y < fine.n[1]; ++y) {
-      const Parents py = parents(y);
-      const float w = (pz.odd ? 0.5f : 1.f) * (py.odd ? 0.5f : 1.f);
-      const float* f = rf.data() + fine.index(0, y, z);
-      row[0] = f[0] + 0.5f * f[1];
-      for (std::size_t i = 1; i + 1 < nc; ++i) row[i] = f[2 * i] + 0.5f * (f[2 * i - 1] + f[2 * i + 1]);
-      row[nc - 1] = f[2 * (nc - 1)] + 0.5f * f[2 * (nc - 1) - 1];
-      for (int dz = 0; dz <= (pz.odd ? 1 : 0); ++dz) {
-        for (int dy = 0; dy <= (py.odd ? 1 : 0); ++dy) {
-          float* c = rc.data() + coarse.index(0, py.first + dy, pz.first + dz);
-          for (std::size_t i = 0; i < nc; ++i) c[i] += w * row[i];
-        }
-      }
+  each_fine_row(fine, coarse, [&](std::size_t first, const std::array<std::size_t, 4>& rows, int parents, float w) {
+    const float* f = rf.data() + first;
+    row[0] = f[0] + 0.5f * f[1];
+    for (std::size_t i = 1; i + 1 < nc; ++i) row[i] = f[2 * i] + 0.5f * (f[2 * i - 1] + f[2 * i + 1]);
+    row[nc - 1] = f[2 * (nc - 1)] + 0.5f * f[2 * (nc - 1) - 1];
+    for (int k = 0; k < parents; ++k) {
+      float* c = rc.data() + rows[static_cast<std::size_t>(k)];
+      for (std::size_t i = 0; i < nc; ++i) c[i] += w * row[i];
     }
-  }
+  });
 }
 
 // Conjugate gradients preconditioned by the smoother's diagonal, from x = 0; solves
