@@ -1,7 +1,8 @@
 // Screened Poisson surface reconstruction (Kazhdan & Hoppe 2013, "Screened Poisson
 // surface reconstruction", ACM TOG 32(3)) on a regular grid, solved by conjugate
 // gradients preconditioned with a geometric multigrid V-cycle, and contoured by
-// marching tetrahedra (algorithms/grid_contour.h).
+// marching tetrahedra (algorithms/grid_contour.h), whose vertices are then moved onto
+// the level set of the field's cubic interpolant.
 //
 // PB's other solvers (PCL, CGAL) have only Kazhdan et al.'s 2006 equation, whose
 // level set drifts from the points wherever the normals are off: on bunch 7's surface
@@ -33,6 +34,7 @@ struct ScreenedPoissonParams {
 struct ScreenedPoissonMesh {
   std::vector<Vec3> vertices;                 // m, in the frame of the input points
   std::vector<std::array<int, 3>> triangles;  // outward (the normals' side)
+  std::vector<Vec3> normals;                  // per vertex: the field's unit gradient (outward)
   std::array<int, 3> grid{};                  // finest grid nodes per axis
   int levels = 0;                             // multigrid levels, finest included
   int iterations = 0;                         // conjugate-gradient iterations used

@@ -133,10 +133,12 @@ const std::vector<EstimatorEntry> kEntries = {
          q.screened.screening = n.get_real("screening", q.screened.screening, 0, 1e4);
          q.screened.tolerance = n.get_real("tolerance", q.screened.tolerance, 1e-6, 0.1);
          q.area_neighbours = static_cast<int>(n.get_int("area_neighbours", q.area_neighbours, 2, 100));
+         q.curved = n.get_bool("curved", q.curved);
          p["step"] = q.screened.step;
          p["screening"] = q.screened.screening;
          p["tolerance"] = q.screened.tolerance;
          p["area_neighbours"] = q.area_neighbours;
+         p["curved"] = q.curved;
        } else {
          q.cell = n.get_real("cell", q.cell, 0, 0.05);
          q.step = n.get_real("step", q.step, 2e-4, 0.05);

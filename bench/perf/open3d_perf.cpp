@@ -222,8 +222,9 @@ void volume_over(benchmark::State& state, const CloudSet& set, F volume_of) {
     report(state, *set[0], out[0].volume, out[0].watertight);
     return;
   }
-  double sum = 0, largest = 0, closed = 0;
+  double sum = 0, largest = 0, closed = 0, signed_sum = 0;
   for (std::size_t i = 0; i < set.size(); ++i) {
+    signed_sum += 100 * (out[i].volume / set[i]->true_volume - 1);
     const double e = std::abs(100 * (out[i].volume / set[i]->true_volume - 1));
     sum += e;
     largest = std::max(largest, e);
@@ -232,18 +233,21 @@ void volume_over(benchmark::State& state, const CloudSet& set, F volume_of) {
   state.counters["bunches"] = static_cast<double>(set.size());
   state.counters["mean_abs_error_pct"] = sum / static_cast<double>(set.size());
   state.counters["max_abs_error_pct"] = largest;
+  state.counters["mean_signed_error_pct"] = signed_sum / static_cast<double>(set.size());
   state.counters["watertight"] = closed;  // how many of the meshes
 }
 
 // PB's settings for one benchmark row: the solver (PCL, the default; CGAL's implicit
 // function contoured on a 2 mm grid; screened Poisson on a 1 mm grid), CGAL's thinning
-// cell (m, 0: none), and whether Poisson runs on the MLS-projected points (seed 000)
-// or on the input points with MLS normals.
-PoissonParams pb(PoissonSolver solver, double cell = 0.003, bool mls_positions = true) {
+// cell (m, 0: none), whether Poisson runs on the MLS-projected points (seed 000)
+// or on the input points with MLS normals, and whether the screened mesh's volume is
+// its flat triangles' (Eq. 11) or the curved surface's through them.
+PoissonParams pb(PoissonSolver solver, double cell = 0.003, bool mls_positions = true, bool curved = false) {
   PoissonParams p;
   p.solver = solver;
   p.cell = cell;
   p.mls_positions = mls_positions;
+  p.curved = curved;
   return p;
 }
 void BM_PB_grapebench(benchmark::State& s, const CloudSet& (*set)(), Orient orient, PoissonParams p) {
@@ -414,6 +418,10 @@ POISSON_BENCHMARK(BM_PB_cgal, surfaces6_facing, 1, &surfaces6, Orient::Facing);
 POISSON_BENCHMARK(BM_PB_grapebench, held_out6_facing_screened_input_points, 1, &surfaces_held_out, Orient::Facing,
                   pb(kScreened, 0, false));
 POISSON_BENCHMARK(BM_PB_open3d, held_out6_facing, 1, &surfaces_held_out, Orient::Facing);
+POISSON_BENCHMARK(BM_PB_grapebench, surfaces6_facing_screened_input_points_curved, 1, &surfaces6, Orient::Facing,
+                  pb(kScreened, 0, false, true));
+POISSON_BENCHMARK(BM_PB_grapebench, held_out6_facing_screened_input_points_curved, 1, &surfaces_held_out, Orient::Facing,
+                  pb(kScreened, 0, false, true));
 BENCHMARK(BM_floor_visibility_hull)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_VoxelGrid_grapebench)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_VoxelGrid_open3d)->Unit(benchmark::kMillisecond);
