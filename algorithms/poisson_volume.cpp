@@ -53,20 +53,19 @@ double mesh_signed_volume(const std::vector<Vec3>& v, const std::vector<std::arr
   return six / 6;
 }
 
-double mesh_curved_volume(const std::vector<Vec3>& v, const std::vector<Vec3>& n, const std::vector<std::array<int, 3>>& t) {
+double mesh_bulge_volume(const std::vector<Vec3>& v, const std::vector<Vec3>& n, const std::vector<std::array<int, 3>>& t) {
   if (n.size() != v.size()) {
-    throw InputError("mesh_curved_volume: " + std::to_string(v.size()) + " vertices and " + std::to_string(n.size()) +
+    throw InputError("mesh_bulge_volume: " + std::to_string(v.size()) + " vertices and " + std::to_string(n.size()) +
                      " normals; give one normal per vertex");
   }
-  double six = 0, bulge = 0;
+  double bulge = 0;
   for (const auto& f : t) {
     const Vec3 &a = v[static_cast<std::size_t>(f[0])], &b = v[static_cast<std::size_t>(f[1])], &c = v[static_cast<std::size_t>(f[2])];
     const Vec3 &na = n[static_cast<std::size_t>(f[0])], &nb = n[static_cast<std::size_t>(f[1])], &nc = n[static_cast<std::size_t>(f[2])];
-    six += a.cross(b).dot(c);
     // Twice the area, times the three edges' sagittas times 8.
     bulge += (b - a).cross(c - a).norm() * ((b - a).dot(nb - na) + (c - b).dot(nc - nb) + (a - c).dot(na - nc));
   }
-  return six / 6 + bulge / 48;
+  return bulge / 48;
 }
 
 bool mesh_is_watertight(const std::vector<std::array<int, 3>>& t) {
@@ -213,7 +212,7 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, c
   e.points_used = static_cast<std::size_t>(s.points.rows());
   std::vector<Vec3> local;
   std::string solver_note;
-  std::optional<double> curved_volume;
+  std::optional<double> bulge;  // screened, curved: the curved surface's volume beyond the flat triangles'
   if (p.solver == PoissonSolver::Cgal) {
     const Vec3 extent = (centred.colwise().maxCoeff() - centred.colwise().minCoeff()).transpose().array() + 4 * p.step;
     const double nodes = (extent / p.step).array().ceil().prod();
@@ -228,7 +227,7 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, c
     solver_note = "CGAL, " + std::to_string(m.points_solved) + " points solved, " + std::to_string(m.grid_nodes) + " grid nodes";
   } else if (p.solver == PoissonSolver::Screened) {
     ScreenedPoissonMesh m = screened_poisson_mesh(centred, s.normals, point_areas(centred, p.area_neighbours), p.screened);
-    if (p.curved) curved_volume = mesh_curved_volume(m.vertices, m.normals, m.triangles);
+    if (p.curved) bulge = mesh_bulge_volume(m.vertices, m.normals, m.triangles);
     local = std::move(m.vertices);
     e.mesh_triangles = std::move(m.triangles);
     solver_note = "screened, grid " + std::to_string(m.grid[0]) + " x " + std::to_string(m.grid[1]) + " x " + std::to_string(m.grid[2]) +
@@ -241,13 +240,13 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, c
   }
   if (e.mesh_triangles.empty()) throw InputError("poisson_volume: the reconstruction is empty");
   for (const auto& v : local) e.mesh_vertices.push_back(v + centre.transpose());
-  const double flat_volume = std::abs(mesh_signed_volume(local, e.mesh_triangles));
-  e.volume = curved_volume ? std::abs(*curved_volume) : flat_volume;
+  const double flat_signed = mesh_signed_volume(local, e.mesh_triangles);
+  e.volume = std::abs(flat_signed + bulge.value_or(0));
   e.watertight = mesh_is_watertight(e.mesh_triangles);
   if (facing.rows() != 0) solver_note += ", " + std::to_string(flipped) + " normals turned to face their row of facing";
-  if (curved_volume) {
-    solver_note += ", volume of the curved surface through the vertices and normals (" + std::to_string(flat_volume * 1e6) +
-                   " cm3 flat)";
+  if (bulge) {
+    solver_note += ", volume of the curved surface through the vertices and normals (" +
+                   std::to_string(std::abs(flat_signed) * 1e6) + " cm3 flat)";
   }
   e.notes = solver_note + ", " + std::to_string(e.mesh_triangles.size()) + " triangles" +
             (e.watertight ? "" : ", not watertight");

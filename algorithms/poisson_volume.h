@@ -37,7 +37,7 @@ struct PoissonParams {
   int area_neighbours = 10;  // k, [2, 100]
   // Screened only. false: the volume of the flat triangles (Eq. 11, seed 000's measure);
   // true: of the curved surface through their vertices with the field's normals
-  // (mesh_curved_volume), which has not the flat triangles' chord error.
+  // (mesh_signed_volume + mesh_bulge_volume), which has not the flat triangles' chord error.
   bool curved = false;
 };
 
@@ -62,15 +62,16 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& para
 double mesh_signed_volume(const std::vector<Vec3>& vertices, const std::vector<std::array<int, 3>>& triangles);
 bool mesh_is_watertight(const std::vector<std::array<int, 3>>& triangles);
 
-// Volume enclosed by the quadratic surface that passes through a closed mesh's vertices
-// with the given unit normals (per vertex, outward): Eq. 11 plus, per triangle, its area
-// times the mean of its edges' sagittas. An edge a-b of a surface with normals n_a, n_b
+// What the quadratic surface through a closed mesh's vertices with the given unit
+// normals (per vertex, outward) encloses beyond its flat triangles (so that the curved
+// surface's volume is mesh_signed_volume plus this): per triangle, its area times the
+// mean of its edges' sagittas. An edge a-b of a surface with normals n_a, n_b
 // bows out of its chord by (b - a) . (n_b - n_a) / 8 at its midpoint (exact on a circle:
 // |b - a|^2 / 8R), and a quadratic that is 0 at the corners and s at the edge midpoints
 // integrates to area * (s_ab + s_bc + s_ca) / 3 over the triangle. Flat triangles miss
 // ~9 rho^2 / 8R^2 of a sphere of radius R (rho: their circumradius); this sum misses
 // O(rho^4 / R^4). Concave edges (normals turning towards each other) bow inward.
-double mesh_curved_volume(const std::vector<Vec3>& vertices, const std::vector<Vec3>& normals,
-                          const std::vector<std::array<int, 3>>& triangles);
+double mesh_bulge_volume(const std::vector<Vec3>& vertices, const std::vector<Vec3>& normals,
+                         const std::vector<std::array<int, 3>>& triangles);
 
 }  // namespace grapebench
