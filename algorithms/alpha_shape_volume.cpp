@@ -84,4 +84,10 @@ VolumeEstimate alpha_shape_volume(const PointCloud& cloud, const AlphaShapeParam
   return out;
 }
 
+const ParamTable<AlphaShapeParams>& alpha_shape_param_table() {
+  static const ParamTable<AlphaShapeParams> table = ParamTable<AlphaShapeParams>().real(
+      "alpha", "m", &AlphaShapeParams::alpha, 1e-4, 10, "alpha as a ball radius (seed 000: 0.25, read as dm)");
+  return table;
+}
+
 }  // namespace grapebench

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 #include "algorithms/volume_estimate.h"
 
 namespace grapebench {
@@ -14,6 +15,7 @@ struct AlphaShapeParams {
   // radius of 0.025 m, about one table-grape berry. Sweep it.
   double alpha = 0.025;
 };
+const ParamTable<AlphaShapeParams>& alpha_shape_param_table();
 
 // Volume of the solid alpha complex (the interior tetrahedra of the Delaunay
 // triangulation at this alpha, CGAL's Fixed_alpha_shape_3), with its boundary

@@ -64,4 +64,20 @@ CylinderFit cylinder_fit(const PointCloud& cloud, const CylinderFitParams& p) {
   return f;
 }
 
+const ParamTable<CylinderFitParams>& cylinder_fit_param_table() {
+  using P = CylinderFitParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .real("max_distance", "m", &P::max_distance, 1e-4, 0.5, "inlier distance (seed 003 does not give it)")
+          .real("min_radius", "m", &P::min_radius, 1e-3, 1, "smallest cylinder radius")
+          .real("max_radius", "m", &P::max_radius, 1e-3, 1, "largest cylinder radius")
+          .integer("max_iterations", "count", &P::max_iterations, 1, 1000000, "MSAC trials (pcfitcylinder default)")
+          .real("normal_weight", "-", &P::normal_weight, 0, 1, "weight of the normal angle in the distance")
+          .integer("normal_k", "count", &P::normal_k, 3, 500, "neighbours for the normals")
+          .validate([](const P& p, const ConfigNode& n) {
+            if (p.min_radius >= p.max_radius) n.fail("min_radius", "must be below max_radius");
+          });
+  return table;
+}
+
 }  // namespace grapebench

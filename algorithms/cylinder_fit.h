@@ -3,6 +3,7 @@
 #pragma once
 
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 
 namespace grapebench {
 
@@ -15,6 +16,7 @@ struct CylinderFitParams {
   double normal_weight = 0.1;                  // weight of the normal angle, [0, 1]
   int normal_k = 20;                           // neighbours for normals, [3, 500]
 };
+const ParamTable<CylinderFitParams>& cylinder_fit_param_table();
 
 struct CylinderFit {
   Vec3 point = Vec3::Zero();          // on the axis, m

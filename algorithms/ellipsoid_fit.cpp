@@ -58,4 +58,12 @@ EllipsoidFit ellipsoid_fit(const PointCloud& cloud) {
   return f;
 }
 
+const ParamTable<EllipsoidSizeParams>& ellipsoid_size_param_table() {
+  using P = EllipsoidSizeParams;
+  static const ParamTable<P> table = ParamTable<P>().choice(
+      "measure", &P::measure, {{"radii", P::Measure::Radii}, {"diameters", P::Measure::Diameters}},
+      "report the two largest radii (seed 003's G_R) or diameters");
+  return table;
+}
+
 }  // namespace grapebench

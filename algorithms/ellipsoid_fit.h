@@ -4,6 +4,7 @@
 #pragma once
 
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 
 namespace grapebench {
 
@@ -18,5 +19,13 @@ struct EllipsoidFit {
 // (e.g. coplanar points) or a quadric that is not an ellipsoid (the single-view case
 // the paper warns about can give a hyperboloid).
 EllipsoidFit ellipsoid_fit(const PointCloud& cloud);
+
+// What G_R reports: seed 003 compares the radii themselves with the cluster's length
+// and width; `diameters` doubles them (the like-for-like reading).
+struct EllipsoidSizeParams {
+  enum class Measure { Radii, Diameters };
+  Measure measure = Measure::Radii;
+};
+const ParamTable<EllipsoidSizeParams>& ellipsoid_size_param_table();
 
 }  // namespace grapebench

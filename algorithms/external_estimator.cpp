@@ -139,4 +139,26 @@ Estimate external_estimate(const PointCloud& cloud, const ExternalParams& p) {
   return e;
 }
 
+const ParamTable<ExternalParams>& external_param_table() {
+  using P = ExternalParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .strings("command", &P::command, 1, "the program and its arguments, e.g. [python3, \"{scene_dir}/my.py\"]")
+          .required()
+          .choice_list("quantities", &P::quantities, quantity_choices(), 1, "what the program's answer holds")
+          .real("timeout", "s", &P::timeout, 0.1, 86400, "the program is killed after it");
+  return table;
+}
+
+void substitute_scene_dir(std::vector<std::string>& command, const std::string& scene_dir) {
+  const std::string placeholder = "{scene_dir}", with = scene_dir.empty() ? "." : scene_dir;
+  for (auto& a : command) {
+    // Search on after each replacement: a folder whose name holds the placeholder
+    // must not be expanded again.
+    for (auto at = a.find(placeholder); at != std::string::npos; at = a.find(placeholder, at + with.size())) {
+      a.replace(at, placeholder.size(), with);
+    }
+  }
+}
+
 }  // namespace grapebench

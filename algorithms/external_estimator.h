@@ -3,7 +3,10 @@
 // scripts/external/open3d_estimator.py).
 #pragma once
 
-#include "algorithms/registry.h"
+#include "algorithms/estimate.h"
+#include "synth/param_table.h"
+
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <vector>
@@ -19,6 +22,9 @@ struct ExternalParams {
   double timeout = 300;  // s, [0.1, 86400]; the program is killed after it
   nlohmann::ordered_json params = nlohmann::ordered_json::object();  // passed through to the program
 };
+const ParamTable<ExternalParams>& external_param_table();
+// Replaces every "{scene_dir}" in the command's arguments by `scene_dir` ("." when empty).
+void substitute_scene_dir(std::vector<std::string>& command, const std::string& scene_dir);
 
 // Writes `cloud.ply` (binary, x y z as doubles, metres) and `request.json` into a fresh
 // temporary folder, runs the program, and reads `answer.json`:

@@ -378,4 +378,81 @@ FilteredCloud lccp_stalk_removal(const PointCloud& cloud, const LccpStalkParams&
   return subset(cloud, std::move(keep), notes.str());
 }
 
+const ParamTable<PassThroughParams>& pass_through_param_table() {
+  using P = PassThroughParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .vec3("min", "m", &P::min, -1e9, 1e9, "box corner (seed 000 clipping, seed 003 Sect. 2.3)")
+          .vec3("max", "m", &P::max, -1e9, 1e9, "opposite box corner")
+          .validate([](const P& p, const ConfigNode& n) {
+            for (int k = 0; k < 3; ++k) {
+              if (!(p.min(k) < p.max(k))) n.fail("max", "must exceed `min` on every axis (x, y, z)");
+            }
+          });
+  return table;
+}
+
+const ParamTable<EuclideanClusterParams>& euclidean_cluster_param_table() {
+  using P = EuclideanClusterParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .real("tolerance", "m", &P::tolerance, 1e-4, 1, "gap between clusters (seed 003 Sect. II-B2: 0.01 m)")
+          .integer("min_points", "count", &P::min_points, 1, 100000000, "smaller clusters are dropped (seed 003: 300)");
+  return table;
+}
+
+const ParamTable<OutlierRemovalParams>& outlier_removal_param_table() {
+  using P = OutlierRemovalParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .integer("mean_k", "count", &P::mean_k, 1, 1000, "n neighbours (seed 002 Sect. 2.1; PCL example value)")
+          .real("stddev_mul", "sd", &P::stddev_mul, 0, 100, "delta, standard deviations (seed 002 Sect. 2.1)");
+  return table;
+}
+
+const ParamTable<VoxelGridParams>& voxel_grid_param_table() {
+  static const ParamTable<VoxelGridParams> table = ParamTable<VoxelGridParams>().real(
+      "leaf", "m", &VoxelGridParams::leaf, 1e-4, 1, "voxel edge (seed 000 gives no value)");
+  return table;
+}
+
+const ParamTable<RegionGrowingParams>& region_growing_param_table() {
+  using P = RegionGrowingParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .integer("normal_k", "count", &P::normal_k, 3, 500, "neighbours for normals")
+          .integer("neighbours", "count", &P::neighbours, 3, 500, "region-growing neighbourhood")
+          .real("smoothness_deg", "deg", &P::smoothness_deg, 0.1, 90, "normal angle threshold (PCL example)")
+          .real("curvature", "-", &P::curvature, 0, 1, "curvature threshold for seeds (PCL example)")
+          .integer("min_region", "count", &P::min_region, 1, 1000000, "smallest region")
+          .real("plane_rms", "m", &P::plane_rms, 1e-5, 0.1, "flatter regions are background")
+          .real("min_background_extent", "m", &P::min_background_extent, 1e-3, 10, "and larger than this across")
+          .real("cluster_tolerance", "m", &P::cluster_tolerance, 0, 1,
+                "Euclidean clustering of what is left, the largest kept (0 keeps all)");
+  return table;
+}
+
+const ParamTable<LccpStalkParams>& lccp_stalk_param_table() {
+  using P = LccpStalkParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .real("voxel_resolution", "m", &P::voxel_resolution, 1e-4, 0.1, "supervoxel voxel (seed 002 gives none)")
+          .real("seed_resolution", "m", &P::seed_resolution, 1e-3, 0.5, "supervoxel seed spacing")
+          .real("spatial_importance", "-", &P::spatial_importance, 0, 100, "supervoxel spatial weight")
+          .real("normal_importance", "-", &P::normal_importance, 0, 100, "supervoxel normal weight")
+          .real("concavity_tolerance_deg", "deg", &P::concavity_tolerance_deg, 0, 90,
+                "Eq. 5 angle tolerance (LCCP default)")
+          .boolean("sanity_check", &P::sanity_check, "Eq. 6 sanity criterion")
+          .integer("min_segment_size", "count", &P::min_segment_size, 0, 1000,
+                   "supervoxels merged into neighbours below this")
+          .real("max_stalk_diameter", "m", &P::max_stalk_diameter, 1e-3, 0.1, "extent across a stalk segment")
+          .real("elongation", "-", &P::elongation, 1, 100, "a stalk segment is this much longer than wide")
+          .real("end_band", "m", &P::end_band, 0, 0.2, "a stalk segment reaches this close to the cloud's end")
+          .integer("max_stalk_segments", "count", &P::max_stalk_segments, 1, 20, "most segments removed")
+          .validate([](const P& p, const ConfigNode& n) {
+            if (!(p.seed_resolution > p.voxel_resolution)) n.fail("seed_resolution", "must exceed voxel_resolution");
+          });
+  return table;
+}
+
 }  // namespace grapebench

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@ struct PassThroughParams {
   Vec3 min = Vec3::Constant(-1e9);  // m, box corner; each coordinate in [-1e9, 1e9]
   Vec3 max = Vec3::Constant(1e9);   // m, must exceed min on every axis
 };
+const ParamTable<PassThroughParams>& pass_through_param_table();
 FilteredCloud pass_through(const PointCloud& cloud, const PassThroughParams& params);
 
 // Euclidean cluster extraction (PCL EuclideanClusterExtraction): groups whose points
@@ -33,6 +35,7 @@ struct EuclideanClusterParams {
   double tolerance = 0.01;  // m, [1e-4, 1]; seed 003: 0.01 m
   int min_points = 300;     // points, [1, 1e8]; seed 003: 300
 };
+const ParamTable<EuclideanClusterParams>& euclidean_cluster_param_table();
 // Row indices of each cluster, ascending; clusters largest first (ties: lowest first
 // index first).
 std::vector<std::vector<Eigen::Index>> euclidean_clusters(const PointCloud& cloud, const EuclideanClusterParams& params);
@@ -45,6 +48,7 @@ struct OutlierRemovalParams {
   int mean_k = 50;          // n, neighbours, [1, 1000]
   double stddev_mul = 1.0;  // delta, standard deviations, [0, 100]
 };
+const ParamTable<OutlierRemovalParams>& outlier_removal_param_table();
 FilteredCloud statistical_outlier_removal(const PointCloud& cloud, const OutlierRemovalParams& params);
 
 // Voxel-grid downsampling (seed 000 Sect. "Point Cloud Registration", PCL VoxelGrid):
@@ -53,6 +57,7 @@ FilteredCloud statistical_outlier_removal(const PointCloud& cloud, const Outlier
 struct VoxelGridParams {
   double leaf = 0.002;  // m, voxel edge, [1e-4, 1]; seed 000 gives no value
 };
+const ParamTable<VoxelGridParams>& voxel_grid_param_table();
 FilteredCloud voxel_grid(const PointCloud& cloud, const VoxelGridParams& params);
 
 // Bunch/background separation by region growing on normals and curvature (seed 000
@@ -71,6 +76,7 @@ struct RegionGrowingParams {
   double min_background_extent = 0.06;  // m, [0.001, 10]: and larger than this across
   double cluster_tolerance = 0.02;      // m, [0, 1]: Euclidean clustering of the rest (0 keeps all); 2 cm bridges Kinect gaps at 1 m
 };
+const ParamTable<RegionGrowingParams>& region_growing_param_table();
 FilteredCloud region_growing_segmentation(const PointCloud& cloud, const RegionGrowingParams& params);
 
 // Stalk removal by locally convex connected patches (seed 002 Sect. 2.2, Eqs. 5-6;
@@ -95,6 +101,7 @@ struct LccpStalkParams {
   double end_band = 0.01;                 // m, a stalk segment reaches this close to the end, [0, 0.2]
   int max_stalk_segments = 8;             // [1, 20]
 };
+const ParamTable<LccpStalkParams>& lccp_stalk_param_table();
 FilteredCloud lccp_stalk_removal(const PointCloud& cloud, const LccpStalkParams& params);
 
 }  // namespace grapebench

@@ -54,4 +54,13 @@ SmoothedCloud mls_smooth(const PointCloud& cloud, const MlsParams& p) {
   return s;
 }
 
+const ParamTable<MlsParams>& mls_param_table() {
+  static const ParamTable<MlsParams> table =
+      ParamTable<MlsParams>()
+          .real("radius", "m", &MlsParams::radius, 1e-4, 0.5, "MLS neighbourhood radius (seed 000 gives none)")
+          .integer("polynomial_order", "-", &MlsParams::polynomial_order, 0, 4,
+                   "order of the local surface (seed 000 Eq. 3: 2)");
+  return table;
+}
+
 }  // namespace grapebench

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 
 #include <vector>
 
@@ -13,6 +14,7 @@ struct MlsParams {
   double radius = 0.01;
   int polynomial_order = 2;  // seed 000 Eq. 3: a second-order surface, [0, 4]
 };
+const ParamTable<MlsParams>& mls_param_table();
 
 struct SmoothedCloud {
   PointCloud points;   // N x 3, m (projected onto the local polynomial)

@@ -40,4 +40,10 @@ PercentileBox percentile_box(const PointCloud& cloud, const PercentileBoxParams&
   return b;
 }
 
+const ParamTable<PercentileBoxParams>& percentile_box_param_table() {
+  static const ParamTable<PercentileBoxParams> table = ParamTable<PercentileBoxParams>().real(
+      "alpha", "-", &PercentileBoxParams::alpha, 0, 0.499, "percentile fraction (seed 003 Alg. 1 writes 0.02)");
+  return table;
+}
+
 }  // namespace grapebench

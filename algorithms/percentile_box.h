@@ -3,6 +3,7 @@
 #pragma once
 
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 
 #include <array>
 
@@ -13,6 +14,7 @@ struct PercentileBoxParams {
   // and 80th percentiles (alpha = 0.2); the default follows the written value.
   double alpha = 0.02;
 };
+const ParamTable<PercentileBoxParams>& percentile_box_param_table();
 
 struct PercentileBox {
   Vec3 minimum = Vec3::Zero(), maximum = Vec3::Zero();  // m, per axis of the input frame

@@ -253,4 +253,47 @@ VolumeEstimate poisson_volume(const PointCloud& cloud, const PoissonParams& p, c
   return e;
 }
 
+const ParamTable<PoissonParams>& poisson_param_table() {
+  using P = PoissonParams;
+  const auto pcl = [](const P& p) { return p.solver == PoissonSolver::Pcl; };
+  const auto cgal = [](const P& p) { return p.solver == PoissonSolver::Cgal; };
+  const auto screened = [](const P& p) { return p.solver == PoissonSolver::Screened; };
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .choice("solver", &P::solver,
+                  {{"pcl", PoissonSolver::Pcl}, {"cgal", PoissonSolver::Cgal}, {"screened", PoissonSolver::Screened}},
+                  "PCL's octree solver (Kazhdan 2006), CGAL's implicit function, or screened Poisson (Kazhdan 2013)")
+          .integer("depth", "-", &P::depth, 4, 12, "octree depth; 8 gives ~1 mm cells on a 0.25 m bunch")
+          .when("solver: pcl", pcl)
+          .real("samples_per_node", "-", &P::samples_per_node, 1, 20, "more smooths noisy data")
+          .when("solver: pcl", pcl)
+          .real("scale", "-", &P::scale, 1, 2, "reconstruction cube / bounding cube")
+          .when("solver: pcl", pcl)
+          .real("step", "m", [](auto& p) -> auto& { return p.screened.step; }, 2e-4, 0.05, "grid step of the solve")
+          .when("solver: screened", screened)
+          .real("screening", "-", [](auto& p) -> auto& { return p.screened.screening; }, 0, 1e4,
+                "screening weight (Kazhdan & Hoppe 2013: 4)")
+          .when("solver: screened", screened)
+          .real("tolerance", "-", [](auto& p) -> auto& { return p.screened.tolerance; }, 1e-6, 0.1,
+                "relative residual at which the solve stops")
+          .when("solver: screened", screened)
+          .integer("area_neighbours", "count", &P::area_neighbours, 2, 100,
+                   "k: a point's area is pi d^2 / k from the distance d to its k-th neighbour")
+          .when("solver: screened", screened)
+          .boolean("curved", &P::curved, "volume of the curved surface through the vertices (no chord error)")
+          .when("solver: screened", screened)
+          .real("cell", "m", &P::cell, 0, 0.05, "one point per grid cell before the solve; 0: all")
+          .when("solver: cgal", cgal)
+          .real("step", "m", &P::step, 2e-4, 0.05, "contouring grid spacing")
+          .when("solver: cgal", cgal)
+          .real("mls_radius", "m", [](auto& p) -> auto& { return p.mls.radius; }, 1e-4, 0.5,
+                "MLS radius for the normals (seed 000: MLS before Poisson)")
+          .integer("mls_order", "-", [](auto& p) -> auto& { return p.mls.polynomial_order; }, 0, 4,
+                   "MLS polynomial order (seed 000 Eq. 3)")
+          .boolean("mls_positions", &P::mls_positions, "reconstruct from the MLS-projected points (seed 000)")
+          .choice("orient", &P::orient, {{"centroid", P::Orient::Centroid}, {"facing", P::Orient::Facing}},
+                  "normals away from the centroid (seed 000) or toward each point's camera");
+  return table;
+}
+
 }  // namespace grapebench

@@ -39,7 +39,14 @@ struct PoissonParams {
   // true: of the curved surface through their vertices with the field's normals
   // (mesh_signed_volume + mesh_bulge_volume), which has not the flat triangles' chord error.
   bool curved = false;
+  // How the normals are turned outward (the harness's choice, not poisson_volume's):
+  // centroid, seed 000's sign rule (mls_smooth); facing, each normal toward the camera
+  // that saw its point (PCL's flipNormalTowardsViewpoint).
+  enum class Orient { Centroid, Facing };
+  Orient orient = Orient::Centroid;
 };
+// Scene keys of the `poisson` estimator; solver-specific keys are read only with their solver.
+const ParamTable<PoissonParams>& poisson_param_table();
 
 // Volume enclosed by the reconstructed mesh: sum over triangles of (a x b) . c / 6
 // (Eq. 11). `watertight` is true when every edge has exactly two triangles with

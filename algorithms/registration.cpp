@@ -237,4 +237,17 @@ double centroid_displacement(const Eigen::Isometry3d& estimate, const Eigen::Iso
   return (estimate * c - truth * c).norm();
 }
 
+const ParamTable<IcpParams>& icp_param_table() {
+  using P = IcpParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .real("max_correspondence_distance", "m", &P::max_correspondence_distance, 1e-4, 1,
+                "correspondences farther apart are dropped (seeds 000, 002 give none)")
+          .integer("max_iterations", "count", &P::max_iterations, 1, 10000, "ICP iterations")
+          .real("transformation_epsilon", "-", &P::transformation_epsilon, 0, 1, "squared transform change to stop")
+          .real("fitness_epsilon", "m2", &P::fitness_epsilon, 0, 1, "change of the mean squared error to stop")
+          .boolean("point_to_plane", &P::point_to_plane, "point-to-plane error instead of the papers' point-to-point");
+  return table;
+}
+
 }  // namespace grapebench

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 
 #include <Eigen/Geometry>
 
@@ -22,6 +23,7 @@ struct IcpParams {
   // the papers' point-to-point: partial views slide less.
   bool point_to_plane = false;
 };
+const ParamTable<IcpParams>& icp_param_table();
 
 struct IcpResult {
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  // source -> target

@@ -17,7 +17,7 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 // Counter-clockwise outline of slice points.
 std::vector<Vec2> outline_of(const std::vector<Vec2>& pts, const SectionPerimeterParams& p, const Vec2& centre) {
   std::vector<Vec2> out;
-  if (p.outline == "convex_hull") {
+  if (p.outline == SectionPerimeterParams::Outline::ConvexHull) {
     std::vector<K::Point_2> in, hull;
     in.reserve(pts.size());
     for (const auto& q : pts) in.emplace_back(q.x(), q.y());
@@ -44,7 +44,6 @@ std::vector<Vec2> outline_of(const std::vector<Vec2>& pts, const SectionPerimete
 
 SectionPerimeters section_perimeters(const PointCloud& cloud, const SectionPerimeterParams& p) {
   if (!(p.half_width >= 1e-4 && p.half_width <= 0.05)) throw InputError("section_perimeters: half_width must lie in [1e-4, 0.05] m");
-  if (p.outline != "convex_hull" && p.outline != "angular") throw InputError("section_perimeters: outline must be convex_hull or angular");
   if (p.angular_bins < 8 || p.angular_bins > 3600) throw InputError("section_perimeters: angular_bins must lie in [8, 3600]");
   SectionPerimeters s;
   s.box = pca_box(cloud);
@@ -74,6 +73,20 @@ SectionPerimeters section_perimeters(const PointCloud& cloud, const SectionPerim
     s.perimeter(k) = spline_length(closed_hobby_spline(clean, p.tension));
   }
   return s;
+}
+
+const ParamTable<SectionPerimeterParams>& section_perimeter_param_table() {
+  using P = SectionPerimeterParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .real("half_width", "m", &P::half_width, 1e-4, 0.05,
+                "half thickness of each slice (seed 002 Sect. 3.2: truth within 3 mm of the centroid)")
+          .choice("outline", &P::outline, {{"convex_hull", P::Outline::ConvexHull}, {"angular", P::Outline::Angular}},
+                  "slice outline: convex hull (a tape) or farthest point per sector (seed 002's quadrants)")
+          .integer("angular_bins", "count", &P::angular_bins, 8, 3600, "sectors of the angular outline")
+          .when("outline: angular", [](const P& p) { return p.outline == P::Outline::Angular; })
+          .real("tension", "-", &P::tension, 0.75, 4, "Hobby spline tension (seed 002 Eqs. 10-11)");
+  return table;
 }
 
 }  // namespace grapebench

@@ -6,6 +6,7 @@
 
 #include "algorithms/pca_box.h"
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 
 #include <array>
 #include <string>
@@ -20,10 +21,12 @@ struct SectionPerimeterParams {
   // default, because the truth is a tape measure) or angular (the farthest point in
   // each of angular_bins sectors around the centre: seed 002's "four quadrants"
   // reading, which follows concavities).
-  std::string outline = "convex_hull";
+  enum class Outline { ConvexHull, Angular };
+  Outline outline = Outline::ConvexHull;
   int angular_bins = 72;  // [8, 3600]
   double tension = 1.0;   // Hobby tension, [0.75, 4]
 };
+const ParamTable<SectionPerimeterParams>& section_perimeter_param_table();
 
 struct SectionPerimeters {
   PcaBox box;

@@ -139,4 +139,27 @@ Region fine_tune_region(const PointCloud& cloud, const std::vector<Rgb8>& rgb, c
   return out;
 }
 
+const ParamTable<Seed003RoiParams>& seed003_roi_param_table() {
+  using P = Seed003RoiParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .integer("detection_clusters", "count", &P::detection_clusters, 1, 64,
+                   "k of the first NDI k-means (seed 003: 5, highest-N centroid kept)")
+          .integer("separation_clusters", "count", &P::separation_clusters, 1, 64,
+                   "k of the grape/foliage k-means (seed 003: 3)")
+          .choice("rule", &P::rule, {{"red", GrapeColourRule::Red}, {"black", GrapeColourRule::Black}},
+                  "grape centroid rule: red (N > n_min, D > d_min) or black (D < d_max, I > i_min), seed 003")
+          .real("n_min", "-", &P::n_min, -1, 1, "red rule: centroid N above (seed 003: 0.2)")
+          .real("d_min", "-", &P::d_min, -1, 1, "red rule: centroid D above (seed 003: 0.2)")
+          .real("d_max", "-", &P::d_max, -1, 1, "black rule: centroid D below (seed 003: 0.2)")
+          .real("i_min", "-", &P::i_min, -1, 1, "black rule: centroid I above (seed 003: -0.05)")
+          .real("cluster_tolerance", "m", [](auto& p) -> auto& { return p.clusters.tolerance; }, 1e-4, 1,
+                "Euclidean clustering gap (seed 003: 0.01 m)")
+          .integer("cluster_min_points", "count", [](auto& p) -> auto& { return p.clusters.min_points; }, 1, 100000000,
+                   "smaller clusters are dropped (seed 003: 300)")
+          .real("radius", "m", &P::roi_radius, 0.01, 2, "R of Eq. 2, the ROI about the centre of mass (seed 003: 0.15)")
+          .seed("kmeans_seed", &P::seed, "seed of the k-means++ draws");
+  return table;
+}
+
 }  // namespace grapebench

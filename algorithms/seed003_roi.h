@@ -33,6 +33,7 @@ struct Seed003RoiParams {
   double roi_radius = 0.15;  // m, R of Eq. 2, [0.01, 2]; seed 003: 0.15 m
   std::uint64_t seed = 1;    // k-means++ draws
 };
+const ParamTable<Seed003RoiParams>& seed003_roi_param_table();
 
 // Rows of the input cloud; ascending.
 using Region = std::vector<Eigen::Index>;

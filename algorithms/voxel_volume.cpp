@@ -66,4 +66,14 @@ VolumeEstimate voxel_volume(const PointCloud& cloud, const VoxelVolumeParams& p)
   return v;
 }
 
+const ParamTable<VoxelVolumeParams>& voxel_volume_param_table() {
+  using P = VoxelVolumeParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .real("voxel_size", "m", &P::voxel_size, 1e-4, 0.5, "voxel edge k (seed 000 Eq. 7 states 0.2 m)")
+          .boolean("fill_interior", &P::fill_interior, "count the voxels the occupied shell encloses too")
+          .real("max_cells", "count", &P::max_cells, 1e3, 1e9, "refuse larger grids");
+  return table;
+}
+
 }  // namespace grapebench

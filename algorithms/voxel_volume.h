@@ -4,6 +4,7 @@
 #pragma once
 
 #include "algorithms/point_cloud.h"
+#include "synth/param_table.h"
 #include "algorithms/volume_estimate.h"
 
 namespace grapebench {
@@ -18,6 +19,7 @@ struct VoxelVolumeParams {
   // Refuse grids larger than this many cells, [1e3, 1e9].
   double max_cells = 2e8;
 };
+const ParamTable<VoxelVolumeParams>& voxel_volume_param_table();
 
 // Eq. 7: V = sum over counted voxels of k^3. The grid is aligned with the cloud's
 // minimum corner; with fill_interior the exterior is flood-filled from the grid's

@@ -60,32 +60,8 @@ Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) 
 
 }  // namespace
 
-nlohmann::ordered_json condition_json(const Condition& c) {
-  const Scene& s = c.scene;
-  nlohmann::ordered_json j;
-  j["scene"] = s.name;
-  j["condition"] = c.label;
-  j["seed"] = s.seed;
-  nlohmann::ordered_json groups = nlohmann::ordered_json::array();
-  for (const auto& g : s.groups) groups.push_back({{"preset", g.preset}, {"count", g.count}, {"params", params_json(g.params)}});
-  j["bunches"] = groups;
-  j["sensor"] = s.sensor ? s.sensor->describe() : nlohmann::ordered_json();
-  j["rig"] = s.rig ? s.rig->describe() : nlohmann::ordered_json();
-  j["background"] = {{"type", s.background.type},
-                     {"distance_m", s.background.distance},
-                     {"colour", {s.background.colour.r, s.background.colour.g, s.background.colour.b}},
-                     {"albedo", s.background.albedo}};
-  if (s.foliage) j["foliage"] = foliage_json(*s.foliage);
-  j["pipeline"] = s.pipeline.describe();
-  nlohmann::ordered_json est = nlohmann::ordered_json::array();
-  for (const auto& e : s.estimators) est.push_back({{"name", e.name}, {"type", e.type}, {"params", e.params}});
-  j["estimators"] = est;
-  return j;
-}
-
 std::string case_key(const Condition& condition, const BunchJob& job) {
-  nlohmann::ordered_json j = condition_json(condition);
-  j.erase("condition");
+  nlohmann::ordered_json j = scene_json(condition.scene);
   j["format"] = kCaseFormat;
   j["job"] = {{"preset", job.preset}, {"index", job.index}, {"seed", job.seed}, {"params", params_json(job.params)}};
   char hex[17];

@@ -87,7 +87,4 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
 nlohmann::ordered_json case_to_json(const CaseResult& c);
 CaseResult case_from_json(const nlohmann::json& j);
 
-// The full parameters of a condition (scene, sensor, rig, pipeline, estimators).
-nlohmann::ordered_json condition_json(const Condition& c);
-
 }  // namespace grapebench

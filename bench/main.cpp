@@ -32,46 +32,34 @@ std::string parameter_help() {
     s << line;
   }
   s << "\n";
-  std::vector<BunchParams> presets;
-  for (const auto& p : preset_names()) presets.push_back(preset(p));
-  for (const auto& spec : bunch_param_specs()) {
-    std::ostringstream range;
-    range << "[" << spec.lo << ", " << spec.hi << "]";
-    std::snprintf(line, sizeof line, "  %-24s %-9s %-17s", std::string(spec.key).c_str(),
-                  std::string(spec.unit).c_str(), range.str().c_str());
+  std::vector<std::vector<KeyInfo>> presets;
+  for (const auto& p : preset_names()) presets.push_back(bunch_param_table().keys(preset(p)));
+  for (std::size_t k = 0; k < presets[0].size(); ++k) {
+    const KeyInfo& key = presets[0][k];
+    std::snprintf(line, sizeof line, "  %-24s %-9s %-17s", key.key.c_str(), key.unit.c_str(), key.range.c_str());
     s << line;
     for (const auto& p : presets) {
-      std::snprintf(line, sizeof line, " %-18s", format_param(p, spec).c_str());
+      std::snprintf(line, sizeof line, " %-18s", p[k].default_value.c_str());
       s << line;
     }
-    s << "\n      " << spec.doc << "\n";
+    s << "\n      " << key.doc << "\n";
   }
   s << "\nOutputs per bunch: bunch_NNNN.json (exact ground truth), bunch_NNNN.ply and .obj\n"
        "(triangle mesh, part labels as colours; parts.mtl), and summary.csv.\n";
   return s.str();
 }
 
+// Generated from the key tables: columns are key, unit, default, allowed range.
 std::string sensor_help() {
   std::ostringstream s;
-  s << "Scene sections for scanning (all keys optional unless noted):\n\n"
-       "sensor:   type: one of\n";
-  for (const auto& e : sensor_registry()) s << "            " << e.type << "  " << e.summary << "\n";
-  s << "  kinect_v2 keys: width 512, height 424, hfov_deg 70.6 [30,120], vfov_deg 60 [20,100],\n"
-       "    min_range 0.5 m [0.1,10], max_range 4.5 m [0.2,20], noise_scale 1 [0,20] (0 = ideal geometry),\n"
-       "    lateral_sd_px 0.5 [0,5], max_incidence_deg 80 [10,90], supersampling 2 [1,8] (n x n rays per pixel),\n"
-       "    modulation_mhz 16 [1,200], min_amplitude 0.25 [0,1], edge_filter true, edge_abs 0.015 m, edge_rel 0.02\n"
-       "    axial noise sigma_z = 1.5 - 0.5 z + 0.3 z^2 + 0.1 z^1.5 theta^2/(pi/2-theta)^2 mm (Fankhauser 2015)\n"
-       "  d435 keys: width 848, height 480, hfov_deg 87 [40,120], baseline 0.05 m [0.01,0.5], subpixel_sd 0.08 px [0,2],\n"
-       "    disparity_step 1/32 px [0,1], max_disparity 126 px [8,1024] (MinZ = f B / max_disparity),\n"
-       "    max_range 10 m, projector_x 0.025 m, projector_y 0 m, require_projector true, noise_scale 1 [0,20]\n"
-       "  ideal keys: width 512, height 424, hfov_deg 70.6\n\n"
-       "rig:      type: turntable | robot_pass | stereo_stations\n"
-       "  turntable: views 12 [1,360], step_deg 30, distance 1.0 m, camera_height 0.75 m, bunch_top_height 0.95 m,\n"
-       "    bottom_view false, bottom_distance 0.6 m  (seed 000: 12 x 30 deg at 1 m; seed 002: 8 x 45 + bottom)\n"
-       "  robot_pass: frames 5, spacing 0.1 m, distance 1.5 m, height_offset 0 m, yaw_deg 0 [-80,80]  (seed 003)\n"
-       "  stereo_stations: distances [0.35, 0.5, 0.65, 0.8, 0.95, 1.1] m  (seed 001)\n\n"
-       "background: type none | plate | cloth, distance 0.25 m behind the bunch axis, colour [r,g,b], albedo 0.5\n\n"
-       "Outputs per bunch: ground_truth.json and per view .pcd (organised, binary), .ply, _depth.png\n"
+  s << "Scene sections for scanning (all keys optional unless marked required).\n"
+       "Columns: key, unit, default, allowed range; then the key's meaning.\n\n"
+       "sensor: {type: ..., keys}\n"
+    << sensor_registry().help() << "\nrig: {type: ..., keys}\n"
+    << rig_registry().help() << "\nbackground:\n"
+    << background_param_table().help(BackgroundSpec{}) << "\nfoliage: (leaves and canes around each bunch)\n"
+    << foliage_param_table().help(FoliageParams{})
+    << "\nOutputs per bunch: ground_truth.json and per view .pcd (organised, binary), .ply, _depth.png\n"
        "(16-bit mm), _rgb.png, _label.png, plus bunch_NNNN_scan.json with poses and intrinsics.\n";
   return s.str();
 }
@@ -88,18 +76,15 @@ nlohmann::json read_json(const std::filesystem::path& f, const std::string& what
 
 std::string run_help() {
   std::ostringstream s;
-  s << "A scene for `run` adds to the sections of `scan` (see `grapebench scan --help`):\n\n"
-       "pipeline:   segmentation: labels (the ground-truth bunch labels; an oracle)\n"
-       "            registration: true_poses | seed000_pca_icp | known_angle_icp | plain_icp\n"
-       "            icp: {max_correspondence_distance 0.003 m [1e-4,1], max_iterations 50 [1,10000],\n"
-       "                  transformation_epsilon 1e-9, fitness_epsilon 1e-10, point_to_plane false}\n"
-       "            group_size 3 [1,360] (seed 000), bottom_band 0.03 m (seed 002), angle_error_sd_deg 0 [0,45],\n"
-       "            min_points 100 (fewer bunch points fail the case),\n"
-       "            visibility_hull 0 m, off; [1e-4,0.05]: the rig's visibility hull at that step, a volume row\n"
-       "            `visibility_hull` (the floor of any estimator that invents no geometry)\n"
-       "estimators: a list of {type, name (optional column name), parameters}; types:\n";
-  for (const auto& e : estimator_registry()) s << "            " << e.type << "  " << e.summary << "\n";
-  s << "sweep:      {dotted.key: [values] or {from, to, step}}, e.g. sensor.noise_scale: [0, 0.5, 1, 2, 4],\n"
+  s << "A scene for `run` adds to the sections of `scan` (see `grapebench scan --help`).\n"
+       "Columns: key, unit, default, allowed range; then the key's meaning.\n\n"
+       "pipeline:\n"
+    << pipeline_param_table().help(PipelineSpec{})
+    << "    view_filters, cloud_filters: lists of pipeline steps {type: ..., keys}, on each view (camera\n"
+       "        frame) and on the registered cloud:\n"
+    << filter_registry().help("    ") << "\nestimators: a list of {type: ..., name: column name (default: the type), keys}\n"
+    << estimator_registry().help()
+    << "\nsweep:      {dotted.key: [values] or {from, to, step}}, e.g. sensor.noise_scale: [0, 0.5, 1, 2, 4],\n"
        "            bunches.compactness (every group), estimators[2].alpha; the run covers the product.\n\n"
        "Outputs in <out>/<scene name>/: results.csv (a row per case, estimator and quantity; deterministic),\n"
        "summary.json (scores per condition and estimator; deterministic), timings.csv/json, manifest.json,\n"

@@ -214,7 +214,7 @@ nlohmann::ordered_json manifest_json(const SceneSet& set, const RunOptions& o) {
   j["sweep"] = sweep;
   nlohmann::ordered_json conds = nlohmann::ordered_json::array();
   for (const auto& c : set.conditions) {
-    nlohmann::ordered_json cj = condition_json(c);
+    nlohmann::ordered_json cj = {{"condition", c.label}, {"scene", scene_json(c.scene)}};
     nlohmann::ordered_json seeds = nlohmann::ordered_json::array();
     for (const auto& job : bunch_jobs(c.scene)) seeds.push_back({{"bunch", job.index}, {"preset", job.preset}, {"seed", job.seed}});
     cj["bunch_seeds"] = seeds;

@@ -11,43 +11,73 @@
 
 namespace grapebench {
 
+namespace {
+
+const std::vector<std::string> kRegistrations = {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp",
+                                                 "single_frame"};
+
+std::vector<std::pair<std::string, std::string>> names(const std::vector<std::string>& list) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& s : list) out.emplace_back(s, s);
+  return out;
+}
+
+bool single_frame(const PipelineSpec& p) { return p.registration == "single_frame"; }
+bool uses_icp(const PipelineSpec& p) { return p.registration != "true_poses" && !single_frame(p); }
+
+nlohmann::ordered_json steps_json(const std::vector<FilterSpec>& list) {
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (const auto& f : list) a.push_back(f.params);
+  return a;
+}
+
+}  // namespace
+
+const ParamTable<PipelineSpec>& pipeline_param_table() {
+  using P = PipelineSpec;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .choice("segmentation", &P::segmentation, names({"labels", "none"}),
+                  "labels: the returns on bunch parts (an oracle); none: every return, view_filters must find the bunch")
+          .choice("registration", &P::registration, names(kRegistrations),
+                  "true_poses; seed000_pca_icp (seed 000); known_angle_icp (seed 002 Eqs. 1-4); plain_icp; "
+                  "single_frame (seed 003: every view measured alone)")
+          .section("icp", &P::icp, icp_param_table(), "ICP of the registration")
+          .when("an ICP registration", uses_icp)
+          .integer("group_size", "count", &P::group_size, 1, 360, "views per group (seed 000's grouped registration)")
+          .when("registration: seed000_pca_icp", [](const P& p) { return p.registration == "seed000_pca_icp"; })
+          .real("bottom_band", "m", &P::bottom_band, 0.001, 0.5,
+                "lowest band the bottom view is aligned on (seed 002 Eqs. 3-4: 30 mm)")
+          .when("registration: known_angle_icp", [](const P& p) { return p.registration == "known_angle_icp"; })
+          .real("angle_error_sd_deg", "deg", &P::angle_error_sd_deg, 0, 45, "turntable positioning error, seeded")
+          .when("registration: known_angle_icp", [](const P& p) { return p.registration == "known_angle_icp"; })
+          .real("min_points", "count", &P::min_points, 4, 1e9, "a case with fewer bunch points fails")
+          .when("a registered cloud (not single_frame)", [](const P& p) { return !single_frame(p); })
+          .real("visibility_hull", "m", &P::visibility_hull, 0, 0.05,
+                "0 off; else the step of the rig's visibility hull, a volume row `visibility_hull` (the floor)")
+          .when("a registered cloud (not single_frame)", [](const P& p) { return !single_frame(p); })
+          .choice_list("rois", &P::rois, names({"auto_r", "auto_cm", "manual_r", "manual_cm"}), 1,
+                       "ROI kinds measured (seed 003: ROI_R^A, ROI_CM^A, ROI_R^M, ROI_CM^M)")
+          .when("registration: single_frame", single_frame)
+          .section("roi", &P::roi, seed003_roi_param_table(), "seed 003's detection and ROI (Sect. II-B)")
+          .when("registration: single_frame", single_frame)
+          .boolean("fine_tune", &P::fine_tune, "the fine-tuning step on every ROI (seed 003)")
+          .when("registration: single_frame", single_frame)
+          .integer("manual_min_berry_points", "count", &P::manual_min_berry_points, 1, 100000000,
+                   "fewer visible berry returns: no manual label")
+          .when("registration: single_frame", single_frame)
+          .validate([](const P& p, const ConfigNode& n) {
+            if (p.visibility_hull > 0 && p.visibility_hull < 1e-4) {
+              n.fail("visibility_hull", "must be 0 (off) or lie in [1e-4, 0.05] m");
+            }
+          });
+  return table;
+}
+
 nlohmann::ordered_json PipelineSpec::describe() const {
-  auto steps = [](const std::vector<FilterSpec>& list) {
-    nlohmann::ordered_json a = nlohmann::ordered_json::array();
-    for (const auto& f : list) a.push_back({{"type", f.type}, {"params", f.params}});
-    return a;
-  };
-  nlohmann::ordered_json j = {{"segmentation", segmentation},
-          {"view_filters", steps(view_filters)},
-          {"cloud_filters", steps(cloud_filters)},
-          {"registration", registration},
-          {"icp",
-           {{"max_correspondence_distance_m", icp.max_correspondence_distance},
-            {"max_iterations", icp.max_iterations},
-            {"transformation_epsilon", icp.transformation_epsilon},
-            {"fitness_epsilon_m2", icp.fitness_epsilon},
-            {"point_to_plane", icp.point_to_plane}}},
-          {"group_size", group_size},
-          {"bottom_band_m", bottom_band},
-          {"angle_error_sd_deg", angle_error_sd_deg},
-          {"min_points", min_points},
-          {"single_frame",
-           {{"rois", rois},
-            {"fine_tune", fine_tune},
-            {"manual_min_berry_points", manual_min_berry_points},
-            {"detection_clusters", roi.detection_clusters},
-            {"separation_clusters", roi.separation_clusters},
-            {"rule", roi.rule == GrapeColourRule::Red ? "red" : "black"},
-            {"n_min", roi.n_min},
-            {"d_min", roi.d_min},
-            {"d_max", roi.d_max},
-            {"i_min", roi.i_min},
-            {"cluster_tolerance_m", roi.clusters.tolerance},
-            {"cluster_min_points", roi.clusters.min_points},
-            {"roi_radius_m", roi.roi_radius},
-            {"kmeans_seed", roi.seed}}}};
-  // Only when on, so the keys (and resumable cases) of scenes without it stay the same.
-  if (visibility_hull > 0) j["visibility_hull_m"] = visibility_hull;
+  nlohmann::ordered_json j = pipeline_param_table().to_json(*this);
+  j["view_filters"] = steps_json(view_filters);
+  j["cloud_filters"] = steps_json(cloud_filters);
   return j;
 }
 
@@ -55,71 +85,28 @@ namespace {
 
 PipelineSpec read_pipeline(const ConfigNode& n) {
   PipelineSpec p;
-  p.segmentation = n.get_choice("segmentation", p.segmentation, {"labels", "none"});
+  pipeline_param_table().read(n, p);
   for (const char* list : {"view_filters", "cloud_filters"}) {
     if (!n.has(list)) continue;
     for (const auto& f : n.children(list)) {
       FilterSpec spec;
-      spec.type = find_filter(f).type;
-      spec.run = find_filter(f).create(f, spec.params);
+      spec.run = filter_registry().create(f, spec.params);
+      spec.type = spec.params["type"].get<std::string>();
       (list == std::string("view_filters") ? p.view_filters : p.cloud_filters).push_back(std::move(spec));
     }
   }
-  p.registration =
-      n.get_choice("registration", p.registration,
-                   {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp", "single_frame"});
-  if (n.has("rois")) {
-    p.rois = n.get_string_list("rois", 1);
-    for (const auto& r : p.rois) {
-      if (r != "auto_r" && r != "auto_cm" && r != "manual_r" && r != "manual_cm") {
-        n.fail("rois", "unknown ROI '" + r + "'; allowed: auto_r, auto_cm, manual_r, manual_cm");
-      }
-    }
-  }
-  p.fine_tune = n.get_bool("fine_tune", p.fine_tune);
-  p.manual_min_berry_points =
-      static_cast<int>(n.get_int("manual_min_berry_points", p.manual_min_berry_points, 1, 100000000));
-  if (n.has("roi")) {
-    const ConfigNode r = n.child("roi");
-    Seed003RoiParams& q = p.roi;
-    q.detection_clusters = static_cast<int>(r.get_int("detection_clusters", q.detection_clusters, 1, 64));
-    q.separation_clusters = static_cast<int>(r.get_int("separation_clusters", q.separation_clusters, 1, 64));
-    q.rule = r.get_choice("rule", "red", {"red", "black"}) == "red" ? GrapeColourRule::Red : GrapeColourRule::Black;
-    q.n_min = r.get_real("n_min", q.n_min, -1, 1);
-    q.d_min = r.get_real("d_min", q.d_min, -1, 1);
-    q.d_max = r.get_real("d_max", q.d_max, -1, 1);
-    q.i_min = r.get_real("i_min", q.i_min, -1, 1);
-    q.clusters.tolerance = r.get_real("cluster_tolerance", q.clusters.tolerance, 1e-4, 1);
-    q.clusters.min_points = static_cast<int>(r.get_int("cluster_min_points", q.clusters.min_points, 1, 100000000));
-    q.roi_radius = r.get_real("radius", q.roi_radius, 0.01, 2);
-    q.seed = r.get_seed("kmeans_seed", q.seed);
-  }
-  if (n.has("icp")) {
-    const ConfigNode i = n.child("icp");
-    p.icp.max_correspondence_distance =
-        i.get_real("max_correspondence_distance", p.icp.max_correspondence_distance, 1e-4, 1);
-    p.icp.max_iterations = static_cast<int>(i.get_int("max_iterations", p.icp.max_iterations, 1, 10000));
-    p.icp.transformation_epsilon = i.get_real("transformation_epsilon", p.icp.transformation_epsilon, 0, 1);
-    p.icp.fitness_epsilon = i.get_real("fitness_epsilon", p.icp.fitness_epsilon, 0, 1);
-    p.icp.point_to_plane = i.get_bool("point_to_plane", p.icp.point_to_plane);
-  }
-  p.group_size = static_cast<int>(n.get_int("group_size", p.group_size, 1, 360));
-  p.bottom_band = n.get_real("bottom_band", p.bottom_band, 0.001, 0.5);
-  p.angle_error_sd_deg = n.get_real("angle_error_sd_deg", p.angle_error_sd_deg, 0, 45);
-  p.min_points = n.get_real("min_points", p.min_points, 4, 1e9);
-  p.visibility_hull = n.get_real("visibility_hull", p.visibility_hull, 0, 0.05);
-  if (p.visibility_hull > 0 && p.visibility_hull < 1e-4) n.fail("visibility_hull", "must be 0 (off) or lie in [1e-4, 0.05] m");
   return p;
 }
 
 std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
   std::vector<EstimatorSpec> out;
   for (const auto& n : root.children("estimators")) {
-    const EstimatorEntry& entry = find_estimator(n);
     EstimatorSpec e;
-    e.type = entry.type;
-    e.quantities = entry.type == "external" ? external_quantities(n) : entry.quantities;
-    e.name = n.get_string("name", entry.type);
+    EstimatorBinding bound = estimator_registry().create(n, e.params);
+    e.type = e.params["type"].get<std::string>();
+    e.quantities = std::move(bound.quantities);
+    e.run = std::move(bound.run);
+    e.name = n.get_string("name", e.type);
     if (e.name.empty() || e.name.find_first_of(",\"\n ") != std::string::npos) {
       n.fail("name", "must be non-empty without spaces, commas or quotes");
     }
@@ -127,7 +114,6 @@ std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
     for (const auto& other : out) {
       if (other.name == e.name) n.fail("name", "'" + e.name + "' is used twice; give each estimator its own `name:`");
     }
-    e.run = entry.create(n, e.params);
     out.push_back(std::move(e));
   }
   if (root.has("estimators") && out.empty()) root.fail("estimators", "the list is empty");
@@ -335,23 +321,33 @@ RayScene scene_rays(const Scene& scene, const Bunch& bunch, std::uint64_t bunch_
   return RayScene(bunch, std::nullopt, generate_foliage(*scene.foliage, bunch, derive_seed(bunch_seed, 0x1eaf)));
 }
 
-nlohmann::ordered_json foliage_json(const FoliageParams& p) {
-  auto rgb = [](const Rgb& c) { return nlohmann::ordered_json{c.r, c.g, c.b}; };
-  return {{"leaves", p.leaves},
-          {"leaf_radius_m", p.leaf_radius},
-          {"leaf_radius_sd_m", p.leaf_radius_sd},
-          {"row_half_length_m", p.row_half_length},
-          {"canopy_depth_m", p.canopy_depth},
-          {"canopy_below_m", p.canopy_below},
-          {"canopy_above_m", p.canopy_above},
-          {"clearance_m", p.clearance},
-          {"occlusion", p.occlusion},
-          {"cordon_radius_m", p.cordon_radius},
-          {"shoots", p.shoots},
-          {"shoot_radius_m", p.shoot_radius},
-          {"leaf_colour", rgb(p.leaf_colour)},
-          {"leaf_colour_sd", p.leaf_colour_sd},
-          {"cane_colour", rgb(p.cane_colour)}};
+nlohmann::ordered_json scene_json(const Scene& s) {
+  nlohmann::ordered_json j;
+  j["name"] = s.name;
+  j["seed"] = s.seed;
+  nlohmann::ordered_json groups = nlohmann::ordered_json::array();
+  for (const auto& g : s.groups) {
+    nlohmann::ordered_json group = {{"preset", g.preset}, {"count", g.count}};
+    const nlohmann::ordered_json params = bunch_param_table().to_json(g.params);
+    for (const auto& [k, v] : params.items()) group[k] = v;
+    groups.push_back(group);
+  }
+  j["bunches"] = groups;
+  if (s.sensor) j["sensor"] = s.sensor->describe();
+  if (s.rig) j["rig"] = s.rig->describe();
+  j["background"] = background_param_table().to_json(s.background);
+  if (s.foliage) j["foliage"] = foliage_param_table().to_json(*s.foliage);
+  j["pipeline"] = s.pipeline.describe();
+  if (!s.estimators.empty()) {
+    nlohmann::ordered_json est = nlohmann::ordered_json::array();
+    for (const auto& e : s.estimators) {
+      nlohmann::ordered_json one = {{"name", e.name}};
+      for (const auto& [k, v] : e.params.items()) one[k] = v;
+      est.push_back(one);
+    }
+    j["estimators"] = est;
+  }
+  return j;
 }
 
 std::vector<BunchJob> bunch_jobs(const Scene& scene) {

@@ -23,7 +23,7 @@ struct BunchGroup {
   BunchParams params;  // the preset with the scene's overrides applied
 };
 
-// One registered pipeline step with its parameters (defaults filled).
+// One registered pipeline step with its parameters (defaults filled): {type, keys...}.
 struct FilterSpec {
   std::string type;
   nlohmann::ordered_json params;
@@ -61,14 +61,17 @@ struct PipelineSpec {
   // as the volume row of the reference `visibility_hull`: the floor of any estimator
   // that invents no geometry. 0: off (the default); else [1e-4, 0.05].
   double visibility_hull = 0;
+  // Every key that applies, as a `pipeline:` section that reads back as this spec.
   nlohmann::ordered_json describe() const;
 };
+// The keys of `pipeline:` other than the step lists.
+const ParamTable<PipelineSpec>& pipeline_param_table();
 
 struct EstimatorSpec {
   std::string name;  // column name in the results (default: the type)
   std::string type;
   std::vector<Quantity> quantities;
-  nlohmann::ordered_json params;  // every parameter with defaults filled
+  nlohmann::ordered_json params;  // {type, every parameter with defaults filled}
   BoundEstimator run;
 };
 
@@ -131,6 +134,8 @@ std::vector<BunchJob> bunch_jobs(const Scene& scene);
 // The ray scene of one bunch of `scene`: the bunch, and its foliage when the scene has
 // a `foliage:` section (drawn from the bunch's seed, its own stream).
 RayScene scene_rays(const Scene& scene, const Bunch& bunch, std::uint64_t bunch_seed);
-nlohmann::ordered_json foliage_json(const FoliageParams& p);
+// The scene as a document that reads back as the same scene (every key with its value,
+// defaults filled, sweep expanded): the manifest's record and the case key's input.
+nlohmann::ordered_json scene_json(const Scene& s);
 
 }  // namespace grapebench

@@ -32,6 +32,8 @@ else
 fi
 
 export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
+# Paths relative to the checkout, so a fresh clone elsewhere (CI) hits the same cache.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$here}"
 jobs="$(nproc)"
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-Release}" "$@" >/dev/null
 cmake --build "$build" --parallel "$jobs"

@@ -91,37 +91,26 @@ OrganisedCloud D435::capture(const RayScene& scene, const Eigen::Isometry3d& pos
   return out;
 }
 
-nlohmann::ordered_json D435::describe() const {
-  return {{"type", type()},
-          {"width", p_.width},
-          {"height", p_.height},
-          {"hfov_deg", p_.hfov_deg},
-          {"baseline_m", p_.baseline},
-          {"subpixel_sd_px", p_.subpixel_sd},
-          {"disparity_step_px", p_.disparity_step},
-          {"max_disparity_px", p_.max_disparity},
-          {"min_z_m", min_z()},
-          {"max_range_m", p_.max_range},
-          {"projector_m", {p_.projector_x, p_.projector_y}},
-          {"require_projector", p_.require_projector},
-          {"noise_scale", p_.noise_scale}};
-}
+nlohmann::ordered_json D435::describe() const { return with_type(type(), d435_param_table().to_json(p_)); }
 
-std::unique_ptr<Sensor> D435::create(const ConfigNode& n) {
-  D435Params p;
-  p.width = static_cast<int>(n.get_int("width", p.width, 16, 4096));
-  p.height = static_cast<int>(n.get_int("height", p.height, 16, 4096));
-  p.hfov_deg = n.get_real("hfov_deg", p.hfov_deg, 40, 120);
-  p.baseline = n.get_real("baseline", p.baseline, 0.01, 0.5);
-  p.subpixel_sd = n.get_real("subpixel_sd", p.subpixel_sd, 0, 2);
-  p.disparity_step = n.get_real("disparity_step", p.disparity_step, 0, 1);
-  p.max_disparity = n.get_real("max_disparity", p.max_disparity, 8, 1024);
-  p.max_range = n.get_real("max_range", p.max_range, 0.5, 65);
-  p.projector_x = n.get_real("projector_x", p.projector_x, -0.5, 0.5);
-  p.projector_y = n.get_real("projector_y", p.projector_y, -0.5, 0.5);
-  p.require_projector = n.get_bool("require_projector", p.require_projector);
-  p.noise_scale = n.get_real("noise_scale", p.noise_scale, 0, 20);
-  return std::make_unique<D435>(p);
+const ParamTable<D435Params>& d435_param_table() {
+  using P = D435Params;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .integer("width", "px", &P::width, 16, 4096, "depth image width (D435: 848 or 1280)")
+          .integer("height", "px", &P::height, 16, 4096, "depth image height (D435: 480 or 720)")
+          .real("hfov_deg", "deg", &P::hfov_deg, 40, 120, "horizontal field of view (D435 depth: 87)")
+          .real("baseline", "m", &P::baseline, 0.01, 0.5, "left to right imager")
+          .real("subpixel_sd", "px", &P::subpixel_sd, 0, 2,
+                "disparity noise sd, sigma_z = z^2 s / (f B) (RealSense tuning guide: 0.08)")
+          .real("disparity_step", "px", &P::disparity_step, 0, 1, "disparity quantisation (5-bit subpixel: 1/32)")
+          .real("max_disparity", "px", &P::max_disparity, 8, 1024, "search range: MinZ = f B / max_disparity")
+          .real("max_range", "m", &P::max_range, 0.5, 65, "no return further")
+          .real("projector_x", "m", &P::projector_x, -0.5, 0.5, "infrared projector in the left imager's frame, x")
+          .real("projector_y", "m", &P::projector_y, -0.5, 0.5, "infrared projector, y")
+          .boolean("require_projector", &P::require_projector, "points the projector cannot light return nothing")
+          .real("noise_scale", "-", &P::noise_scale, 0, 20, "0 ideal geometry, 1 nominal, >1 worse");
+  return table;
 }
 
 }  // namespace grapebench

@@ -21,11 +21,12 @@ struct D435Params {
   bool require_projector = true;
   double noise_scale = 1.0;  // [0, 20]
 };
+// The scene keys of `sensor: {type: ...}` for this model.
+const ParamTable<D435Params>& d435_param_table();
 
 class D435 : public Sensor {
  public:
   explicit D435(const D435Params& p) : p_(p) {}
-  static std::unique_ptr<Sensor> create(const ConfigNode& node);
   std::string type() const override { return "d435"; }
   Intrinsics intrinsics() const override { return intrinsics_from_hfov(p_.width, p_.height, p_.hfov_deg); }
   OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override;

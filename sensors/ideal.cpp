@@ -46,16 +46,15 @@ OrganisedCloud capture_exact(const RayScene& scene, const Camera& cam) {
   return out;
 }
 
-nlohmann::ordered_json IdealSensor::describe() const {
-  return {{"type", type()}, {"width", p_.width}, {"height", p_.height}, {"hfov_deg", p_.hfov_deg}};
-}
+nlohmann::ordered_json IdealSensor::describe() const { return with_type(type(), ideal_param_table().to_json(p_)); }
 
-std::unique_ptr<Sensor> IdealSensor::create(const ConfigNode& n) {
-  IdealParams p;
-  p.width = static_cast<int>(n.get_int("width", p.width, 16, 4096));
-  p.height = static_cast<int>(n.get_int("height", p.height, 16, 4096));
-  p.hfov_deg = n.get_real("hfov_deg", p.hfov_deg, 10, 150);
-  return std::make_unique<IdealSensor>(p);
+const ParamTable<IdealParams>& ideal_param_table() {
+  using P = IdealParams;
+  static const ParamTable<P> table = ParamTable<P>()
+                                         .integer("width", "px", &P::width, 16, 4096, "image width")
+                                         .integer("height", "px", &P::height, 16, 4096, "image height")
+                                         .real("hfov_deg", "deg", &P::hfov_deg, 10, 150, "horizontal field of view");
+  return table;
 }
 
 }  // namespace grapebench

@@ -10,6 +10,8 @@ struct IdealParams {
   int width = 512, height = 424;  // pixels, [16, 4096]
   double hfov_deg = 70.6;         // deg, [10, 150]
 };
+// The scene keys of `sensor: {type: ...}` for this model.
+const ParamTable<IdealParams>& ideal_param_table();
 
 // Exact pinhole capture from `camera`: one ray per pixel centre, no noise, no limits.
 OrganisedCloud capture_exact(const RayScene& scene, const Camera& camera);
@@ -17,7 +19,6 @@ OrganisedCloud capture_exact(const RayScene& scene, const Camera& camera);
 class IdealSensor : public Sensor {
  public:
   explicit IdealSensor(const IdealParams& p) : p_(p) {}
-  static std::unique_ptr<Sensor> create(const ConfigNode& node);
   std::string type() const override { return "ideal"; }
   Intrinsics intrinsics() const override { return intrinsics_from_hfov(p_.width, p_.height, p_.hfov_deg); }
   OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override;

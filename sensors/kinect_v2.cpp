@@ -225,45 +225,39 @@ OrganisedCloud KinectV2::capture(const RayScene& scene, const Eigen::Isometry3d&
   return out;
 }
 
-nlohmann::ordered_json KinectV2::describe() const {
-  return {{"type", type()},
-          {"width", p_.width},
-          {"height", p_.height},
-          {"hfov_deg", p_.hfov_deg},
-          {"vfov_deg", p_.vfov_deg},
-          {"min_range_m", p_.min_range},
-          {"max_range_m", p_.max_range},
-          {"noise_scale", p_.noise_scale},
-          {"axial_mm", {p_.axial_a0, p_.axial_a1, p_.axial_a2, p_.axial_a3}},
-          {"lateral_sd_px", p_.lateral_sd_px},
-          {"max_incidence_deg", p_.max_incidence_deg},
-          {"supersampling", p_.supersampling},
-          {"modulation_mhz", p_.modulation_mhz},
-          {"min_amplitude", p_.min_amplitude},
-          {"edge_filter", p_.edge_filter},
-          {"edge_abs_m", p_.edge_abs},
-          {"edge_rel", p_.edge_rel}};
-}
+nlohmann::ordered_json KinectV2::describe() const { return with_type(type(), kinect_v2_param_table().to_json(p_)); }
 
-std::unique_ptr<Sensor> KinectV2::create(const ConfigNode& n) {
-  KinectV2Params p;
-  p.width = static_cast<int>(n.get_int("width", p.width, 16, 4096));
-  p.height = static_cast<int>(n.get_int("height", p.height, 16, 4096));
-  p.hfov_deg = n.get_real("hfov_deg", p.hfov_deg, 30, 120);
-  p.vfov_deg = n.get_real("vfov_deg", p.vfov_deg, 20, 100);
-  p.min_range = n.get_real("min_range", p.min_range, 0.1, 10);
-  p.max_range = n.get_real("max_range", p.max_range, 0.2, 20);
-  p.noise_scale = n.get_real("noise_scale", p.noise_scale, 0, 20);
-  p.lateral_sd_px = n.get_real("lateral_sd_px", p.lateral_sd_px, 0, 5);
-  p.max_incidence_deg = n.get_real("max_incidence_deg", p.max_incidence_deg, 10, 90);
-  p.supersampling = static_cast<int>(n.get_int("supersampling", p.supersampling, 1, 8));
-  p.modulation_mhz = n.get_real("modulation_mhz", p.modulation_mhz, 1, 200);
-  p.min_amplitude = n.get_real("min_amplitude", p.min_amplitude, 0, 1);
-  p.edge_filter = n.get_bool("edge_filter", p.edge_filter);
-  p.edge_abs = n.get_real("edge_abs", p.edge_abs, 0.001, 0.5);
-  p.edge_rel = n.get_real("edge_rel", p.edge_rel, 0, 0.5);
-  if (p.min_range >= p.max_range) n.fail("min_range", "must be below max_range");
-  return std::make_unique<KinectV2>(p);
+const ParamTable<KinectV2Params>& kinect_v2_param_table() {
+  using P = KinectV2Params;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .integer("width", "px", &P::width, 16, 4096, "depth image width (Kinect v2: 512)")
+          .integer("height", "px", &P::height, 16, 4096, "depth image height (Kinect v2: 424)")
+          .real("hfov_deg", "deg", &P::hfov_deg, 30, 120, "horizontal field of view (Kinect v2: 70.6)")
+          .real("vfov_deg", "deg", &P::vfov_deg, 20, 100, "vertical field of view (Kinect v2: 60)")
+          .real("min_range", "m", &P::min_range, 0.1, 10, "no return nearer (seed 000: 0.5-4.5 m)")
+          .real("max_range", "m", &P::max_range, 0.2, 20, "no return further")
+          .real("noise_scale", "-", &P::noise_scale, 0, 20, "0 ideal geometry, 1 nominal, >1 worse")
+          .real("axial_a0", "mm", &P::axial_a0, -100, 100,
+                "axial noise sigma_z = a0 + a1 z + a2 z^2 + a3 z^1.5 theta^2/(pi/2-theta)^2 (Fankhauser 2015)")
+          .real("axial_a1", "mm/m", &P::axial_a1, -100, 100, "axial noise, linear term")
+          .real("axial_a2", "mm/m2", &P::axial_a2, -100, 100, "axial noise, quadratic term")
+          .real("axial_a3", "mm", &P::axial_a3, -100, 100, "axial noise, incidence term")
+          .real("lateral_sd_px", "px", &P::lateral_sd_px, 0, 5, "sd of a pixel footprint's position (Fankhauser 2015)")
+          .real("max_incidence_deg", "deg", &P::max_incidence_deg, 10, 90, "no return at more grazing angles")
+          .integer("supersampling", "count", &P::supersampling, 1, 8,
+                   "n x n rays per pixel blended as ToF phasors (mixed pixels)")
+          .real("modulation_mhz", "MHz", &P::modulation_mhz, 1, 200, "modulation frequency of the phasor blend")
+          .real("min_amplitude", "-", &P::min_amplitude, 0, 1, "pixels with less of a full return are dropped")
+          .boolean("edge_filter", &P::edge_filter, "drop pixels on depth edges, as the official driver does")
+          .real("edge_abs", "m", &P::edge_abs, 0.001, 0.5, "edge filter: absolute depth jump")
+          .when("edge_filter: true", [](const P& p) { return p.edge_filter; })
+          .real("edge_rel", "-", &P::edge_rel, 0, 0.5, "edge filter: depth jump relative to z")
+          .when("edge_filter: true", [](const P& p) { return p.edge_filter; })
+          .validate([](const P& p, const ConfigNode& n) {
+            if (p.min_range >= p.max_range) n.fail("min_range", "must be below max_range");
+          });
+  return table;
 }
 
 }  // namespace grapebench

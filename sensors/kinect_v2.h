@@ -32,11 +32,12 @@ struct KinectV2Params {
   double edge_abs = 0.015;  // m, [0.001, 0.5]
   double edge_rel = 0.02;   // -, [0, 0.5]
 };
+// The scene keys of `sensor: {type: ...}` for this model.
+const ParamTable<KinectV2Params>& kinect_v2_param_table();
 
 class KinectV2 : public Sensor {
  public:
   explicit KinectV2(const KinectV2Params& p) : p_(p) {}
-  static std::unique_ptr<Sensor> create(const ConfigNode& node);
   std::string type() const override { return "kinect_v2"; }
   Intrinsics intrinsics() const override;
   OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override;

@@ -42,7 +42,7 @@ class Turntable : public Rig {
       const double phi = -a * kDeg;
       const Vec3 eye(p_.distance * std::cos(phi), p_.distance * std::sin(phi), eye_z);
       RigView v{numbered("view", k), look_at(eye, centre), a, std::nullopt};
-      if (bg.type != "none") v.background = plate_behind(v.pose, axis_point, bg);
+      if (bg.type != BackgroundType::None) v.background = plate_behind(v.pose, axis_point, bg);
       out.push_back(v);
     }
     if (p_.bottom_view) {
@@ -52,11 +52,7 @@ class Turntable : public Rig {
     }
     return out;
   }
-  nlohmann::ordered_json describe() const override {
-    return {{"type", type()}, {"views", p_.views}, {"step_deg", p_.step_deg}, {"distance_m", p_.distance},
-            {"camera_height_m", p_.camera_height}, {"bunch_top_height_m", p_.bunch_top_height},
-            {"bottom_view", p_.bottom_view}, {"bottom_distance_m", p_.bottom_distance}};
-  }
+  nlohmann::ordered_json describe() const override { return with_type(type(), turntable_param_table().to_json(p_)); }
 
  private:
   TurntableParams p_;
@@ -77,7 +73,7 @@ class RobotPass : public Rig {
       const Vec3 eye(x, centre.y() - p_.distance, centre.z() + p_.height_offset);
       const Vec3 forward(std::sin(yaw), std::cos(yaw), 0);
       RigView v{numbered("frame", k), look_at(eye, eye + forward), 0, std::nullopt};
-      if (bg.type != "none") {
+      if (bg.type != BackgroundType::None) {
         BackgroundPlane p;
         p.normal = -Vec3::UnitY();  // a cloth hung behind the row, fixed in the world
         p.offset = p.normal.dot(Vec3(0, centre.y() + bg.distance, 0));
@@ -89,10 +85,7 @@ class RobotPass : public Rig {
     }
     return out;
   }
-  nlohmann::ordered_json describe() const override {
-    return {{"type", type()}, {"frames", p_.frames}, {"spacing_m", p_.spacing}, {"distance_m", p_.distance},
-            {"height_offset_m", p_.height_offset}, {"yaw_deg", p_.yaw_deg}};
-  }
+  nlohmann::ordered_json describe() const override { return with_type(type(), robot_pass_param_table().to_json(p_)); }
 
  private:
   RobotPassParams p_;
@@ -109,13 +102,13 @@ class StereoStations : public Rig {
       char name[32];
       std::snprintf(name, sizeof name, "station_%04dmm", static_cast<int>(std::lround(p_.distances[k] * 1000)));
       RigView v{name, look_at(eye, centre), 0, std::nullopt};
-      if (bg.type != "none") v.background = plate_behind(v.pose, Vec3(0, 0, centre.z()), bg);
+      if (bg.type != BackgroundType::None) v.background = plate_behind(v.pose, Vec3(0, 0, centre.z()), bg);
       out.push_back(v);
     }
     return out;
   }
   nlohmann::ordered_json describe() const override {
-    return {{"type", type()}, {"distances_m", p_.distances}};
+    return with_type(type(), stereo_stations_param_table().to_json(p_));
   }
 
  private:
@@ -130,47 +123,75 @@ std::unique_ptr<Rig> make_stereo_stations(const StereoStationsParams& p) {
   return std::make_unique<StereoStations>(p);
 }
 
-const std::vector<std::string>& rig_types() {
-  static const std::vector<std::string> t = {"turntable", "robot_pass", "stereo_stations"};
-  return t;
+const ParamTable<TurntableParams>& turntable_param_table() {
+  using P = TurntableParams;
+  static const ParamTable<P> table = ParamTable<P>()
+      .integer("views", "count", &P::views, 1, 360, "views around the bunch (seed 000: 12; seed 002: 8)")
+      .real("step_deg", "deg", &P::step_deg, 0.5, 360, "turntable step between views (seed 000: 30; seed 002: 45)")
+      .real("distance", "m", &P::distance, 0.2, 5, "horizontal distance of the camera from the bunch axis (seed 000: 1 m)")
+      .real("camera_height", "m", &P::camera_height, 0, 3, "camera height above the floor")
+      .real("bunch_top_height", "m", &P::bunch_top_height, 0.1, 3, "height above the floor where the rachis top hangs")
+      .boolean("bottom_view", &P::bottom_view, "add a view from below, looking up (seed 002 Sect. 2.2)")
+      .real("bottom_distance", "m", &P::bottom_distance, 0.2, 5, "bottom view: distance below the bunch centre")
+      .when("bottom_view: true", [](const P& p) { return p.bottom_view; });
+  return table;
+}
+
+const ParamTable<RobotPassParams>& robot_pass_param_table() {
+  using P = RobotPassParams;
+  static const ParamTable<P> table = ParamTable<P>()
+      .integer("frames", "count", &P::frames, 1, 1000, "frames along the pass (seed 003: single RealSense frames)")
+      .real("spacing", "m", &P::spacing, 0.001, 5, "robot travel between frames")
+      .real("distance", "m", &P::distance, 0.2, 10, "camera distance from the row plane (seed 003: 1.5 m)")
+      .real("height_offset", "m", &P::height_offset, -2, 2, "camera height relative to the bunch centre")
+      .real("yaw_deg", "deg", &P::yaw_deg, -80, 80, "camera turn about the vertical (seed 003: front 0, sides +-45)");
+  return table;
+}
+
+const ParamTable<StereoStationsParams>& stereo_stations_param_table() {
+  using P = StereoStationsParams;
+  static const ParamTable<P> table = ParamTable<P>().reals(
+      "distances", "m", &P::distances, 1, 64, 0.2, 5, "stereo rig stations in front of the bunch (seed 001: 350-1100 mm)");
+  return table;
+}
+
+const ParamTable<BackgroundSpec>& background_param_table() {
+  using P = BackgroundSpec;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .choice("type", &P::type,
+                  {{"none", BackgroundType::None}, {"plate", BackgroundType::Plate}, {"cloth", BackgroundType::Cloth}},
+                  "none; plate: behind the bunch as seen from each view (seed 000); cloth: fixed behind the row (seed 003)")
+          .real("distance", "m", &P::distance, 0.02, 10, "behind the bunch axis")
+          .rgb("colour", &P::colour, "colour in the RGB frame")
+          .real("albedo", "-", &P::albedo, 0, 1, "infrared reflectivity relative to a berry's 0.6");
+  return table;
+}
+
+const Registry<std::unique_ptr<Rig>>& rig_registry() {
+  static const Registry<std::unique_ptr<Rig>> registry(
+      "rig", {entry<std::unique_ptr<Rig>>("turntable", "turntable views at one distance, optional bottom view (seeds 000, 002)",
+                                          turntable_param_table(), TurntableParams{},
+                                          [](const TurntableParams& p, const ConfigNode&) { return make_turntable(p); }),
+              entry<std::unique_ptr<Rig>>("robot_pass", "frames of a camera moving along a row (seed 003)",
+                                          robot_pass_param_table(), RobotPassParams{},
+                                          [](const RobotPassParams& p, const ConfigNode&) { return make_robot_pass(p); }),
+              entry<std::unique_ptr<Rig>>("stereo_stations", "the stereo rig at each distance in front of the bunch (seed 001)",
+                                          stereo_stations_param_table(), StereoStationsParams{},
+                                          [](const StereoStationsParams& p, const ConfigNode&) {
+                                            return make_stereo_stations(p);
+                                          })});
+  return registry;
 }
 
 std::unique_ptr<Rig> make_rig(const ConfigNode& n) {
-  const std::string type = n.get_choice("type", "turntable", rig_types());
-  if (type == "turntable") {
-    TurntableParams p;
-    p.views = static_cast<int>(n.get_int("views", p.views, 1, 360));
-    p.step_deg = n.get_real("step_deg", p.step_deg, 0.5, 360);
-    p.distance = n.get_real("distance", p.distance, 0.2, 5);
-    p.camera_height = n.get_real("camera_height", p.camera_height, 0, 3);
-    p.bunch_top_height = n.get_real("bunch_top_height", p.bunch_top_height, 0.1, 3);
-    p.bottom_view = n.get_bool("bottom_view", p.bottom_view);
-    p.bottom_distance = n.get_real("bottom_distance", p.bottom_distance, 0.2, 5);
-    return make_turntable(p);
-  }
-  if (type == "robot_pass") {
-    RobotPassParams p;
-    p.frames = static_cast<int>(n.get_int("frames", p.frames, 1, 1000));
-    p.spacing = n.get_real("spacing", p.spacing, 0.001, 5);
-    p.distance = n.get_real("distance", p.distance, 0.2, 10);
-    p.height_offset = n.get_real("height_offset", p.height_offset, -2, 2);
-    p.yaw_deg = n.get_real("yaw_deg", p.yaw_deg, -80, 80);
-    return make_robot_pass(p);
-  }
-  StereoStationsParams p;
-  if (n.has("distances")) {
-    const auto list = n.get_real_list_any("distances", 1, 64, 0.2, 5);
-    p.distances = list;
-  }
-  return make_stereo_stations(p);
+  nlohmann::ordered_json ignored;
+  return rig_registry().create(n, ignored, "turntable");
 }
 
 BackgroundSpec read_background(const ConfigNode& n) {
   BackgroundSpec b;
-  b.type = n.get_choice("type", b.type, {"none", "plate", "cloth"});
-  b.distance = n.get_real("distance", b.distance, 0.02, 10);
-  b.colour = read_rgb(n, "colour", b.colour);
-  b.albedo = n.get_real("albedo", b.albedo, 0, 1);
+  background_param_table().read(n, b);
   return b;
 }
 

@@ -4,6 +4,7 @@
 
 #include "sensors/ray_scene.h"
 #include "synth/config.h"
+#include "synth/registry.h"
 
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
@@ -18,12 +19,14 @@ namespace grapebench {
 // Background behind the bunch: none, a plate that stays behind the bunch as seen
 // from each view (turntable rigs: the plate of seed 000), or a cloth fixed in the
 // world behind the row (robot pass, seed 003's black cloth).
+enum class BackgroundType { None, Plate, Cloth };
 struct BackgroundSpec {
-  std::string type = "none";  // none | plate | cloth
+  BackgroundType type = BackgroundType::None;
   double distance = 0.25;     // m behind the bunch axis, [0.02, 10]
   Rgb colour{0.35f, 0.35f, 0.35f};
   double albedo = 0.5;  // infrared reflectivity relative to a berry's 0.6, [0, 1]
 };
+const ParamTable<BackgroundSpec>& background_param_table();  // scene section `background:`
 BackgroundSpec read_background(const ConfigNode& node);
 
 struct RigView {
@@ -69,7 +72,11 @@ struct StereoStationsParams {
   std::vector<double> distances{0.35, 0.5, 0.65, 0.8, 0.95, 1.1};  // m, each in [0.2, 5]
 };
 
-const std::vector<std::string>& rig_types();
+const ParamTable<TurntableParams>& turntable_param_table();
+const ParamTable<RobotPassParams>& robot_pass_param_table();
+const ParamTable<StereoStationsParams>& stereo_stations_param_table();
+// Every rig type; adding one is its file pair plus one line in rig_registry().
+const Registry<std::unique_ptr<Rig>>& rig_registry();
 std::unique_ptr<Rig> make_rig(const ConfigNode& node);
 std::unique_ptr<Rig> make_turntable(const TurntableParams& p);
 std::unique_ptr<Rig> make_robot_pass(const RobotPassParams& p);

@@ -17,9 +17,7 @@ Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, con
   scan.seed = seed;
   scan.sensor = sensor.describe();
   scan.rig = rig.describe();
-  scan.background = {{"type", background.type}, {"distance_m", background.distance},
-                     {"colour", {background.colour.r, background.colour.g, background.colour.b}},
-                     {"albedo", background.albedo}};
+  scan.background = background_param_table().to_json(background);
   const auto views = rig.views(scene.bunch_centre(), scene.bunch_radius(), background);
   for (std::size_t k = 0; k < views.size(); ++k) {
     ScanView v;

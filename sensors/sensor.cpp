@@ -11,25 +11,34 @@
 
 namespace grapebench {
 
-const std::vector<SensorEntry>& sensor_registry() {
-  static const std::vector<SensorEntry> entries = {
-      {"kinect_v2", "Kinect v2 time of flight, 512 x 424 (seeds 000, 002)", KinectV2::create},
-      {"d435", "RealSense D435 active stereo, 848 x 480 (seed 003)", D435::create},
-      {"stereo_rgb", "binocular colour stereo, 800 x 600, OSMesa images (seed 001)", StereoRgb::create},
-      {"ideal", "noise-free pinhole rays, the control", IdealSensor::create},
-  };
-  return entries;
+namespace {
+
+// A registry line for sensor class S built from its parameter struct P.
+template <class S, class P>
+RegistryEntry<std::unique_ptr<Sensor>> sensor(std::string type, std::string summary, const ParamTable<P>& table) {
+  return entry<std::unique_ptr<Sensor>>(std::move(type), std::move(summary), table, P{},
+                                        [](const P& p, const ConfigNode&) { return std::make_unique<S>(p); });
+}
+
+}  // namespace
+
+const Registry<std::unique_ptr<Sensor>>& sensor_registry() {
+  static const Registry<std::unique_ptr<Sensor>> registry(
+      "sensor", {
+                    sensor<KinectV2>("kinect_v2", "Kinect v2 time of flight, 512 x 424 (seeds 000, 002)", kinect_v2_param_table()),
+                    sensor<D435>("d435", "RealSense D435 active stereo, 848 x 480 (seed 003)", d435_param_table()),
+                    sensor<StereoRgb>("stereo_rgb", "binocular colour stereo, 800 x 600, OSMesa images (seed 001)",
+                                      stereo_rgb_param_table()),
+                    sensor<IdealSensor>("ideal", "noise-free pinhole rays, the control", ideal_param_table()),
+                });
+  return registry;
 }
 
 std::unique_ptr<Sensor> make_sensor(const ConfigNode& node) {
-  std::vector<std::string> names;
-  for (const auto& e : sensor_registry()) names.push_back(e.type);
-  const std::string type = node.get_choice("type", "kinect_v2", names);
-  for (const auto& e : sensor_registry()) {
-    if (e.type == type) return e.create(node);
-  }
-  node.fail("type", "unknown sensor");
+  nlohmann::ordered_json ignored;
+  return sensor_registry().create(node, ignored, "kinect_v2");
 }
+
 
 BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam) {
   BunchPixels b;

@@ -5,6 +5,7 @@
 #include "sensors/cloud.h"
 #include "sensors/ray_scene.h"
 #include "synth/config.h"
+#include "synth/registry.h"
 
 #include <nlohmann/json.hpp>
 
@@ -30,16 +31,8 @@ class Sensor {
   virtual nlohmann::ordered_json describe() const = 0;
 };
 
-using SensorFactory = std::function<std::unique_ptr<Sensor>(const ConfigNode&)>;
-
-struct SensorEntry {
-  std::string type;
-  std::string summary;
-  SensorFactory create;
-};
-
 // Every registered sensor; adding one is one file pair plus one line in sensor.cpp.
-const std::vector<SensorEntry>& sensor_registry();
+const Registry<std::unique_ptr<Sensor>>& sensor_registry();
 // Builds the sensor a scene's `sensor:` mapping names; errors name file:line.
 std::unique_ptr<Sensor> make_sensor(const ConfigNode& node);
 

@@ -153,7 +153,7 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
     // Background.
     glDisable(GL_LIGHTING);
     GLuint tex = 0;
-    if (p_.background == "foliage") {
+    if (p_.background == StereoRgbParams::Background::Foliage) {
       glGenTextures(1, &tex);
       glBindTexture(GL_TEXTURE_2D, tex);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -222,39 +222,28 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
   return out;
 }
 
-nlohmann::ordered_json StereoRgb::describe() const {
-  const Intrinsics k = intrinsics();
-  return {{"type", type()},
-          {"width", p_.width},
-          {"height", p_.height},
-          {"focal_length_mm", p_.focal_length_mm},
-          {"pixel_pitch_um", p_.pixel_pitch_um},
-          {"fx_px", k.fx},
-          {"baseline_m", p_.baseline},
-          {"background", p_.background},
-          {"background_distance_m", p_.background_distance},
-          {"specular", p_.specular},
-          {"shininess", p_.shininess},
-          {"mesh_level", p_.mesh_level},
-          {"noise_scale", p_.noise_scale},
-          {"renderer", "OSMesa (fixed-function OpenGL)"}};
-}
+nlohmann::ordered_json StereoRgb::describe() const { return with_type(type(), stereo_rgb_param_table().to_json(p_)); }
 
-std::unique_ptr<Sensor> StereoRgb::create(const ConfigNode& n) {
-  StereoRgbParams p;
-  p.width = static_cast<int>(n.get_int("width", p.width, 64, 4096));
-  p.height = static_cast<int>(n.get_int("height", p.height, 64, 4096));
-  p.focal_length_mm = n.get_real("focal_length_mm", p.focal_length_mm, 1, 100);
-  p.pixel_pitch_um = n.get_real("pixel_pitch_um", p.pixel_pitch_um, 1, 50);
-  p.baseline = n.get_real("baseline", p.baseline, 0.01, 1);
-  p.background = n.get_choice("background", p.background, {"foliage", "plain"});
-  p.plain_colour = read_rgb(n, "plain_colour", p.plain_colour);
-  p.background_distance = n.get_real("background_distance", p.background_distance, 0.05, 10);
-  p.specular = n.get_real("specular", p.specular, 0, 1);
-  p.shininess = n.get_real("shininess", p.shininess, 1, 128);
-  p.mesh_level = static_cast<int>(n.get_int("mesh_level", p.mesh_level, 1, 5));
-  p.noise_scale = n.get_real("noise_scale", p.noise_scale, 0, 20);
-  return std::make_unique<StereoRgb>(p);
+const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
+  using P = StereoRgbParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .integer("width", "px", &P::width, 64, 4096, "image width (seed 001: 800)")
+          .integer("height", "px", &P::height, 64, 4096, "image height (seed 001: 600)")
+          .real("focal_length_mm", "mm", &P::focal_length_mm, 1, 100, "lens focal length (seed 001: 6 mm)")
+          .real("pixel_pitch_um", "um", &P::pixel_pitch_um, 1, 50, "pixel pitch (not stated in seed 001; 6 um: f = 1000 px)")
+          .real("baseline", "m", &P::baseline, 0.01, 1, "left to right camera (seed 001: 5 cm)")
+          .choice("background", &P::background,
+                  {{"foliage", P::Background::Foliage}, {"plain", P::Background::Plain}},
+                  "what the images show behind the bunch")
+          .rgb("plain_colour", &P::plain_colour, "the plain background's colour")
+          .when("background: plain", [](const P& p) { return p.background == P::Background::Plain; })
+          .real("background_distance", "m", &P::background_distance, 0.05, 10, "background square behind the bunch")
+          .real("specular", "-", &P::specular, 0, 1, "specular strength of berries")
+          .real("shininess", "-", &P::shininess, 1, 128, "Phong exponent")
+          .integer("mesh_level", "count", &P::mesh_level, 1, 5, "icosphere level of the rendered berries")
+          .real("noise_scale", "-", &P::noise_scale, 0, 20, "image noise sd = 2/255 * noise_scale");
+  return table;
 }
 
 }  // namespace grapebench

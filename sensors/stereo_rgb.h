@@ -15,7 +15,8 @@ struct StereoRgbParams {
   double focal_length_mm = 6.0;   // seed 001: 6 mm lens, [1, 100]
   double pixel_pitch_um = 6.0;    // assumed (not stated in seed 001): 1000 px focal length, [1, 50]
   double baseline = 0.05;         // m, seed 001: 5 cm, [0.01, 1]
-  std::string background = "foliage";  // foliage | plain
+  enum class Background { Foliage, Plain };
+  Background background = Background::Foliage;  // foliage texture or a plain colour
   Rgb plain_colour{0.55f, 0.6f, 0.65f};
   double background_distance = 0.4;  // m behind the bunch, [0.05, 10]
   double specular = 0.5;             // specular strength, [0, 1]
@@ -23,11 +24,12 @@ struct StereoRgbParams {
   int mesh_level = 3;                // icosphere level of the rendered berries, [1, 5]
   double noise_scale = 1.0;          // image noise sd = 2/255 * noise_scale, [0, 20]
 };
+// The scene keys of `sensor: {type: ...}` for this model.
+const ParamTable<StereoRgbParams>& stereo_rgb_param_table();
 
 class StereoRgb : public Sensor {
  public:
   explicit StereoRgb(const StereoRgbParams& p) : p_(p) {}
-  static std::unique_ptr<Sensor> create(const ConfigNode& node);
   std::string type() const override { return "stereo_rgb"; }
   Intrinsics intrinsics() const override;
   OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override;

@@ -65,6 +65,13 @@ ConfigNode ConfigNode::load_file(const std::string& path) {
 
 std::string ConfigNode::where(const std::string& key) const {
   if (!key.empty() && node_.IsMap() && node_[key]) {
+    // The key's own line where the parser marked it (a nested mapping's value starts on
+    // the next line); a key a sweep inserted has no mark, its value has.
+    for (const auto& kv : node_) {
+      if (kv.first.IsScalar() && kv.first.Scalar() == key && kv.first.Mark().line >= 0) {
+        return state_->file + ":" + line_of(kv.first);
+      }
+    }
     return state_->file + ":" + line_of(node_[key]);
   }
   return state_->file + ":" + line_of(node_);

@@ -7,23 +7,31 @@
 
 namespace grapebench {
 
+const ParamTable<FoliageParams>& foliage_param_table() {
+  using F = FoliageParams;
+  static const ParamTable<F> table = ParamTable<F>()
+      .integer("leaves", "count", &F::leaves, 0, 2000, "leaves drawn in the canopy box around the bunch")
+      .real("leaf_radius", "m", &F::leaf_radius, 0.01, 0.3, "mean lobe tip radius of a five-lobed leaf")
+      .real("leaf_radius_sd", "m", &F::leaf_radius_sd, 0, 0.1, "sd of the leaf radius")
+      .real("row_half_length", "m", &F::row_half_length, 0.05, 5, "leaves and cordon span x in centre +- this")
+      .real("canopy_depth", "m", &F::canopy_depth, 0, 2, "leaves' y range, across the row")
+      .real("canopy_below", "m", &F::canopy_below, 0, 2, "leaves reach this far below the bunch bottom")
+      .real("canopy_above", "m", &F::canopy_above, 0, 2, "leaves reach this far above the cordon")
+      .real("clearance", "m", &F::clearance, 0, 0.5, "gap leaves keep to the bunch's berries")
+      .real("occlusion", "-", &F::occlusion, 0, 1,
+            "chance a leaf between the row's front and the bunch, over its silhouette, is kept (0: face clear)")
+      .real("cordon_radius", "m", &F::cordon_radius, 0.002, 0.05, "radius of the horizontal cane carrying the bunch")
+      .integer("shoots", "count", &F::shoots, 0, 100, "vertical canes rising from the cordon")
+      .real("shoot_radius", "m", &F::shoot_radius, 0.002, 0.05, "shoot radius")
+      .rgb("leaf_colour", &F::leaf_colour, "mean leaf colour, linear RGB, varied per leaf")
+      .real("leaf_colour_sd", "-", &F::leaf_colour_sd, 0, 1, "relative sd of the per-leaf colour")
+      .rgb("cane_colour", &F::cane_colour, "colour of cordon and shoots");
+  return table;
+}
+
 FoliageParams read_foliage(const ConfigNode& n) {
   FoliageParams p;
-  p.leaves = static_cast<int>(n.get_int("leaves", p.leaves, 0, 2000));
-  p.leaf_radius = n.get_real("leaf_radius", p.leaf_radius, 0.01, 0.3);
-  p.leaf_radius_sd = n.get_real("leaf_radius_sd", p.leaf_radius_sd, 0, 0.1);
-  p.row_half_length = n.get_real("row_half_length", p.row_half_length, 0.05, 5);
-  p.canopy_depth = n.get_real("canopy_depth", p.canopy_depth, 0, 2);
-  p.canopy_below = n.get_real("canopy_below", p.canopy_below, 0, 2);
-  p.canopy_above = n.get_real("canopy_above", p.canopy_above, 0, 2);
-  p.clearance = n.get_real("clearance", p.clearance, 0, 0.5);
-  p.occlusion = n.get_real("occlusion", p.occlusion, 0, 1);
-  p.cordon_radius = n.get_real("cordon_radius", p.cordon_radius, 0.002, 0.05);
-  p.shoots = static_cast<int>(n.get_int("shoots", p.shoots, 0, 100));
-  p.shoot_radius = n.get_real("shoot_radius", p.shoot_radius, 0.002, 0.05);
-  p.leaf_colour = read_rgb(n, "leaf_colour", p.leaf_colour);
-  p.leaf_colour_sd = n.get_real("leaf_colour_sd", p.leaf_colour_sd, 0, 1);
-  p.cane_colour = read_rgb(n, "cane_colour", p.cane_colour);
+  foliage_param_table().read(n, p);
   return p;
 }
 

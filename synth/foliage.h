@@ -4,6 +4,7 @@
 #pragma once
 
 #include "synth/config.h"
+#include "synth/param_table.h"
 #include "synth/types.h"
 
 #include <array>
@@ -31,7 +32,8 @@ struct FoliageParams {
   double leaf_colour_sd = 0.15;      // relative, [0, 1]
   Rgb cane_colour{0.33f, 0.22f, 0.12f};
 };
-FoliageParams read_foliage(const ConfigNode& node);  // unknown keys are errors
+const ParamTable<FoliageParams>& foliage_param_table();  // scene section `foliage:`
+FoliageParams read_foliage(const ConfigNode& node);
 
 // Leaves as flat five-lobed polygons (triangle fans), canes as capped cylinders.
 struct Foliage {

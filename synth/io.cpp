@@ -32,18 +32,7 @@ nlohmann::json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 nlohmann::json rgb(const Rgb& c) { return {c.r, c.g, c.b}; }
 }  // namespace
 
-nlohmann::ordered_json params_json(const BunchParams& p) {
-  nlohmann::ordered_json j;
-  for (const auto& s : bunch_param_specs()) {
-    const std::string key(s.key);
-    switch (s.kind) {
-      case ParamSpec::Kind::Real: j[key] = p.*s.real; break;
-      case ParamSpec::Kind::Int: j[key] = p.*s.integer; break;
-      case ParamSpec::Kind::Rgb: j[key] = rgb(p.*s.rgb); break;
-    }
-  }
-  return j;
-}
+nlohmann::ordered_json params_json(const BunchParams& p) { return bunch_param_table().to_json(p); }
 
 nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g,
                                          const BunchRecord& r) {

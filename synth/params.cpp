@@ -7,97 +7,74 @@ namespace grapebench {
 
 namespace {
 
-using K = ParamSpec::Kind;
 using P = BunchParams;
-
-ParamSpec real(std::string_view key, std::string_view unit, double lo, double hi,
-               double P::*field, std::string_view doc) {
-  return {key, unit, lo, hi, doc, K::Real, field, nullptr, nullptr};
-}
-ParamSpec integer(std::string_view key, double lo, double hi, int P::*field,
-                  std::string_view doc) {
-  return {key, "count", lo, hi, doc, K::Int, nullptr, field, nullptr};
-}
-ParamSpec colour(std::string_view key, Rgb P::*field, std::string_view doc) {
-  return {key, "rgb 0..1", 0, 1, doc, K::Rgb, nullptr, nullptr, field};
-}
-
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 }  // namespace
 
-const std::vector<ParamSpec>& bunch_param_specs() {
-  static const std::vector<ParamSpec> specs = {
-      integer("berry_count_min", 1, 1000, &P::berry_count_min,
-              "fewest berries drawn for a bunch (uniform in [min, max]; packing may drop a few, reported in the JSON)"),
-      integer("berry_count_max", 1, 1000, &P::berry_count_max, "most berries drawn for a bunch"),
-      real("berry_radius_mean", "m", 0.002, 0.02, &P::berry_radius_mean,
-           "mean berry radius (normal draw)"),
-      real("berry_radius_sd", "m", 0, 0.005, &P::berry_radius_sd, "berry radius standard deviation"),
-      real("berry_radius_min", "m", 0.002, 0.02, &P::berry_radius_min, "berry radii clamped below"),
-      real("berry_radius_max", "m", 0.002, 0.02, &P::berry_radius_max, "berry radii clamped above"),
-      real("compactness", "-", 0, 1, &P::compactness,
-           "0 loose (berries hang free) .. 1 compact (pulled to the axis and pressed)"),
-      real("max_press_depth", "-", 0, 0.3, &P::max_press_depth,
-           "largest overlap depth of two pressed berries over the smaller radius, at compactness 1"),
-      real("rachis_length_min", "m", 0.03, 0.4, &P::rachis_length_min,
-           "shortest main rachis (uniform in [min, max])"),
-      real("rachis_length_max", "m", 0.03, 0.4, &P::rachis_length_max, "longest main rachis"),
-      real("rachis_radius_top", "m", 0.0005, 0.008, &P::rachis_radius_top,
-           "rachis radius at the top (tapers linearly)"),
-      real("rachis_radius_bottom", "m", 0.0003, 0.008, &P::rachis_radius_bottom,
-           "rachis radius at the tip"),
-      real("rachis_bare_length", "m", 0.005, 0.15, &P::rachis_bare_length,
-           "top part of the rachis without branches"),
-      real("branch_spacing", "m", 0.003, 0.05, &P::branch_spacing,
-           "distance between lateral branches along the rachis"),
-      real("branch_length_top", "m", 0.002, 0.2, &P::branch_length_top,
-           "length of the top lateral branch (shoulder)"),
-      real("branch_length_bottom", "m", 0.002, 0.2, &P::branch_length_bottom,
-           "length of the lowest lateral branch (linear in between)"),
-      real("branch_angle", "deg", 15, 85, &P::branch_angle,
-           "angle of the lateral branches from the downward rachis axis"),
-      real("branch_radius", "m", 0.0002, 0.005, &P::branch_radius, "lateral branch radius"),
-      real("pedicel_length_mean", "m", 0.001, 0.03, &P::pedicel_length_mean,
-           "mean pedicel length outside the berry"),
-      real("pedicel_length_sd", "m", 0, 0.01, &P::pedicel_length_sd, "pedicel length sd"),
-      real("pedicel_radius", "m", 0.0001, 0.003, &P::pedicel_radius, "pedicel radius"),
-      real("pedicel_stretch", "-", 1, 5, &P::pedicel_stretch,
-           "a crowded berry's pedicel may lengthen up to this factor of its drawn length"),
-      real("peduncle_length", "m", 0.005, 0.15, &P::peduncle_length,
-           "peduncle length from the rachis top to the cane"),
-      real("peduncle_radius", "m", 0.0005, 0.01, &P::peduncle_radius, "peduncle radius"),
-      real("peduncle_angle", "deg", 0, 75, &P::peduncle_angle,
-           "peduncle angle from vertical (random azimuth)"),
-      real("cutting_point_fraction", "-", 0.05, 0.95, &P::cutting_point_fraction,
-           "cutting point along the peduncle from the bunch top (seed 001)"),
-      colour("berry_colour", &P::berry_colour, "mean berry colour"),
-      real("colour_variation", "-", 0, 0.3, &P::colour_variation,
-           "sd of the per-berry colour jitter"),
-      colour("stem_colour", &P::stem_colour, "colour of peduncle, rachis and pedicels"),
-      real("density", "g/cm3", 0.5, 2, &P::density, "bunch density for the mass"),
-      integer("relax_iterations", 0, 5000, &P::relax_iterations,
-              "packing relaxation steps (0 = berries where first placed)"),
-  };
-  return specs;
-}
-
-std::string format_param(const BunchParams& p, const ParamSpec& spec) {
-  switch (spec.kind) {
-    case K::Real:
-      return num(p.*spec.real);
-    case K::Int:
-      return std::to_string(p.*spec.integer);
-    case K::Rgb: {
-      const Rgb& c = p.*spec.rgb;
-      return "[" + num(c.r) + ", " + num(c.g) + ", " + num(c.b) + "]";
-    }
-  }
-  return {};
+const ParamTable<BunchParams>& bunch_param_table() {
+  static const ParamTable<BunchParams> table = ParamTable<BunchParams>()
+      .integer("berry_count_min", "count", &P::berry_count_min, 1, 1000,
+               "fewest berries drawn for a bunch (uniform in [min, max]; packing may drop a few, reported in the JSON)")
+      .integer("berry_count_max", "count", &P::berry_count_max, 1, 1000,
+               "most berries drawn for a bunch")
+      .real("berry_radius_mean", "m", &P::berry_radius_mean, 0.002, 0.02,
+            "mean berry radius (normal draw)")
+      .real("berry_radius_sd", "m", &P::berry_radius_sd, 0, 0.005,
+            "berry radius standard deviation")
+      .real("berry_radius_min", "m", &P::berry_radius_min, 0.002, 0.02,
+            "berry radii clamped below")
+      .real("berry_radius_max", "m", &P::berry_radius_max, 0.002, 0.02,
+            "berry radii clamped above")
+      .real("compactness", "-", &P::compactness, 0, 1,
+            "0 loose (berries hang free) .. 1 compact (pulled to the axis and pressed)")
+      .real("max_press_depth", "-", &P::max_press_depth, 0, 0.3,
+            "largest overlap depth of two pressed berries over the smaller radius, at compactness 1")
+      .real("rachis_length_min", "m", &P::rachis_length_min, 0.03, 0.4,
+            "shortest main rachis (uniform in [min, max])")
+      .real("rachis_length_max", "m", &P::rachis_length_max, 0.03, 0.4,
+            "longest main rachis")
+      .real("rachis_radius_top", "m", &P::rachis_radius_top, 0.0005, 0.008,
+            "rachis radius at the top (tapers linearly)")
+      .real("rachis_radius_bottom", "m", &P::rachis_radius_bottom, 0.0003, 0.008,
+            "rachis radius at the tip")
+      .real("rachis_bare_length", "m", &P::rachis_bare_length, 0.005, 0.15,
+            "top part of the rachis without branches")
+      .real("branch_spacing", "m", &P::branch_spacing, 0.003, 0.05,
+            "distance between lateral branches along the rachis")
+      .real("branch_length_top", "m", &P::branch_length_top, 0.002, 0.2,
+            "length of the top lateral branch (shoulder)")
+      .real("branch_length_bottom", "m", &P::branch_length_bottom, 0.002, 0.2,
+            "length of the lowest lateral branch (linear in between)")
+      .real("branch_angle", "deg", &P::branch_angle, 15, 85,
+            "angle of the lateral branches from the downward rachis axis")
+      .real("branch_radius", "m", &P::branch_radius, 0.0002, 0.005,
+            "lateral branch radius")
+      .real("pedicel_length_mean", "m", &P::pedicel_length_mean, 0.001, 0.03,
+            "mean pedicel length outside the berry")
+      .real("pedicel_length_sd", "m", &P::pedicel_length_sd, 0, 0.01,
+            "pedicel length sd")
+      .real("pedicel_radius", "m", &P::pedicel_radius, 0.0001, 0.003,
+            "pedicel radius")
+      .real("pedicel_stretch", "-", &P::pedicel_stretch, 1, 5,
+            "a crowded berry's pedicel may lengthen up to this factor of its drawn length")
+      .real("peduncle_length", "m", &P::peduncle_length, 0.005, 0.15,
+            "peduncle length from the rachis top to the cane")
+      .real("peduncle_radius", "m", &P::peduncle_radius, 0.0005, 0.01,
+            "peduncle radius")
+      .real("peduncle_angle", "deg", &P::peduncle_angle, 0, 75,
+            "peduncle angle from vertical (random azimuth)")
+      .real("cutting_point_fraction", "-", &P::cutting_point_fraction, 0.05, 0.95,
+            "cutting point along the peduncle from the bunch top (seed 001)")
+      .rgb("berry_colour", &P::berry_colour, "mean berry colour")
+      .real("colour_variation", "-", &P::colour_variation, 0, 0.3,
+            "sd of the per-berry colour jitter")
+      .rgb("stem_colour", &P::stem_colour, "colour of peduncle, rachis and pedicels")
+      .real("density", "g/cm3", &P::density, 0.5, 2,
+            "bunch density for the mass")
+      .integer("relax_iterations", "count", &P::relax_iterations, 0, 5000,
+               "packing relaxation steps (0 = berries where first placed)")
+      .validate([](const BunchParams& p, const ConfigNode& n) { validate_bunch_params(p, n.where()); });
+  return table;
 }
 
 const std::vector<std::string>& preset_names() {
@@ -175,41 +152,15 @@ BunchParams preset(const std::string& name) {
   throw InputError("unknown preset '" + name + "'; allowed: " + list);
 }
 
-void read_bunch_params(const ConfigNode& node, BunchParams& p) {
-  for (const auto& s : bunch_param_specs()) {
-    const std::string key(s.key);
-    if (!node.has(key)) continue;
-    switch (s.kind) {
-      case K::Real:
-        p.*s.real = node.get_real(key, p.*s.real, s.lo, s.hi);
-        break;
-      case K::Int:
-        p.*s.integer = static_cast<int>(node.get_int(key, p.*s.integer,
-                                                     static_cast<std::int64_t>(s.lo),
-                                                     static_cast<std::int64_t>(s.hi)));
-        break;
-      case K::Rgb: {
-        const auto v = node.get_real_list(key, 3, s.lo, s.hi);
-        p.*s.rgb = {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
-        break;
-      }
-    }
-  }
-  validate_bunch_params(p, node.where());
-}
+void read_bunch_params(const ConfigNode& node, BunchParams& p) { bunch_param_table().read(node, p); }
 
 void validate_bunch_params(const BunchParams& p, const std::string& where) {
   auto need = [&](bool ok, const std::string& msg) {
     if (!ok) throw InputError(where + ": " + msg);
   };
-  for (const auto& s : bunch_param_specs()) {
-    double v = 0;
-    if (s.kind == K::Real) v = p.*s.real;
-    else if (s.kind == K::Int) v = p.*s.integer;
-    else continue;
-    need(std::isfinite(v) && v >= s.lo && v <= s.hi,
-         "'" + std::string(s.key) + "' = " + num(v) + " is outside the allowed range [" +
-             num(s.lo) + ", " + num(s.hi) + "]");
+  // Ranges too: the generator is also called with parameters set in code.
+  for (const auto& k : bunch_param_table().keys(p)) {
+    need(k.default_in_range, "'" + k.key + "' = " + k.default_value + " is outside the allowed range " + k.range);
   }
   need(p.berry_count_min <= p.berry_count_max,
        "berry_count_min must not exceed berry_count_max");
@@ -236,7 +187,7 @@ void validate_bunch_params(const BunchParams& p, const std::string& where) {
 void set_bunch_param(BunchParams& p, const std::string& key, const std::string& value) {
   const auto node = ConfigNode::load_string(key + ": " + value, "--set " + key);
   bool known = false;
-  for (const auto& s : bunch_param_specs()) known = known || s.key == key;
+  for (const auto& k : bunch_param_table().keys(p)) known = known || k.key == key;
   if (!known) throw InputError("--set: unknown parameter '" + key + "' (see grapebench synth --help)");
   read_bunch_params(node, p);
 }

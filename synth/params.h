@@ -1,10 +1,11 @@
 // Parameters of the bunch generator and the variety presets. One table
-// (bunch_param_specs) documents every parameter with unit, range and meaning; it
+// (bunch_param_table) documents every parameter with unit, range and meaning; it
 // drives the scene-file reader, `grapebench synth --help` and the JSON manifest,
 // so the three can never disagree.
 #pragma once
 
 #include "synth/config.h"
+#include "synth/param_table.h"
 #include "synth/types.h"
 
 #include <string>
@@ -55,21 +56,8 @@ struct BunchParams {
   int relax_iterations = 150;
 };
 
-struct ParamSpec {
-  enum class Kind { Real, Int, Rgb };
-  std::string_view key;
-  std::string_view unit;
-  double lo, hi;
-  std::string_view doc;
-  Kind kind;
-  double BunchParams::*real = nullptr;
-  int BunchParams::*integer = nullptr;
-  Rgb BunchParams::*rgb = nullptr;
-};
-
-const std::vector<ParamSpec>& bunch_param_specs();
-// The value of one parameter as text ("0.0115", "[0.45, 0.06, 0.1]").
-std::string format_param(const BunchParams& p, const ParamSpec& spec);
+// The key table of every bunch parameter (scene keys under `bunches:`).
+const ParamTable<BunchParams>& bunch_param_table();
 
 const std::vector<std::string>& preset_names();
 // Throws InputError naming the allowed presets.

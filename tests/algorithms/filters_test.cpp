@@ -99,7 +99,7 @@ TEST(VoxelGrid, OnePointPerOccupiedVoxel) {
 
 TEST(RegionGrowing, SeparatesTheBunchFromThePlateInAKinectView) {
   BackgroundSpec plate;
-  plate.type = "plate";
+  plate.type = BackgroundType::Plate;
   const auto views = labelled_views(KinectV2(KinectV2Params{}), 1, plate);
   const LabelledView& v = views[0];
   const FilteredCloud f = region_growing_segmentation(v.points, {});

@@ -64,7 +64,7 @@ TEST(SectionPerimeters, EllipsoidSectionsMatchTheirEllipses) {
   EXPECT_NEAR(s.perimeter(1) / ellipse_perimeter(0.06, 0.025), 1, 0.01);
   EXPECT_NEAR(s.perimeter(2) / ellipse_perimeter(0.06, 0.04), 1, 0.01);
   SectionPerimeterParams angular;
-  angular.outline = "angular";
+  angular.outline = SectionPerimeterParams::Outline::Angular;
   const SectionPerimeters a = section_perimeters(c, angular);
   EXPECT_NEAR(a.perimeter(2) / ellipse_perimeter(0.06, 0.04), 1, 0.02);
 }

@@ -2,6 +2,7 @@
 #include "bench/bench_compare.h"
 #include "bench/check.h"
 #include "bench/runner.h"
+#include "scene_error.h"
 
 #include <gtest/gtest.h>
 
@@ -52,14 +53,7 @@ fs::path fresh_dir(const std::string& name) {
   return d;
 }
 
-std::string error_of(const std::string& yaml) {
-  try {
-    parse_scene_set(yaml, "scene.yaml");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string error_of(const std::string& yaml) { return scene_error(yaml); }
 
 RunOptions quiet(const fs::path& out, int threads = 1) {
   RunOptions o;
@@ -106,9 +100,9 @@ TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
   m = error_of(std::string(kScene) + "  - type: poisson\n    solver: screened\n    screening: -1\n");
   EXPECT_NE(m.find("screening"), std::string::npos) << m;
   EXPECT_NE(m.find("[0, 10000]"), std::string::npos) << m;
-  // PCL's octree depth means nothing to the screened solver: an unused key.
+  // PCL's octree depth means nothing to the screened solver: an error naming the solver it needs.
   m = error_of(std::string(kScene) + "  - type: poisson\n    solver: screened\n    depth: 9\n");
-  EXPECT_NE(m.find("unknown key 'estimators[3].depth'"), std::string::npos) << m;
+  EXPECT_NE(m.find("scene.yaml:23: 'estimators[3].depth': is read only with solver: pcl"), std::string::npos) << m;
   m = error_of(std::string(kScene) + "  - type: voxel\n    voxle_size: 0.01\n");
   EXPECT_NE(m.find("unknown key 'estimators[3].voxle_size'"), std::string::npos) << m;
   m = error_of(std::string(kScene) + "  - type: voxel\n    name: CH\n");
@@ -116,9 +110,12 @@ TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
   m = error_of(std::string(kScene) + "pipeline:\n  registration: magic\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("allowed: true_poses"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "pipeline:\n  icp:\n    max_iterations: 0\n");
+  m = error_of(std::string(kScene) + "pipeline:\n  registration: plain_icp\n  icp:\n    max_iterations: 0\n");
   EXPECT_NE(m.find("pipeline.icp.max_iterations"), std::string::npos) << m;
   EXPECT_NE(m.find("[1, 10000]"), std::string::npos) << m;
+  // ICP settings mean nothing with the true poses: an error, not a silent default.
+  m = error_of(std::string(kScene) + "pipeline:\n  icp:\n    max_iterations: 5\n");
+  EXPECT_NE(m.find("scene.yaml:22: 'pipeline.icp': is read only with an ICP registration"), std::string::npos) << m;
 }
 
 TEST(Pipeline, FilterStepsAreRegisteredAndStrict) {
@@ -369,7 +366,7 @@ TEST(External, TheOpen3dExampleRunsThroughTheProtocol) {
   // Scene errors of the external entry name the line.
   const std::string m = error_of(std::string(kScene) + "  - type: external\n    quantities: [mass]\n    command: [x]\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
-  EXPECT_NE(m.find("unknown quantity 'mass'"), std::string::npos) << m;
+  EXPECT_NE(m.find("'estimators[3].quantities': unknown value 'mass'; allowed: volume"), std::string::npos) << m;
 }
 
 // Seed 003's single-frame pipeline: rows per frame and ROI kind, the perfect manual

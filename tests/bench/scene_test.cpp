@@ -58,7 +58,7 @@ TEST(Scene, SensorRigAndBackgroundSectionsAreStrict) {
   ASSERT_TRUE(ok.sensor && ok.rig);
   EXPECT_EQ(ok.sensor->type(), "d435");
   EXPECT_EQ(ok.rig->type(), "robot_pass");
-  EXPECT_EQ(ok.background.type, "cloth");
+  EXPECT_EQ(ok.background.type, BackgroundType::Cloth);
   // Unknown sensor type names the allowed ones.
   auto m = error_of("seed: 1\nbunches:\n  - preset: wine-red\nsensor:\n  type: lidar\n");
   EXPECT_NE(m.find("scene.yaml:5"), std::string::npos) << m;

@@ -218,7 +218,7 @@ TEST(Sensors, SameSeedSameBytesAtOneOrTwoThreads) {
   tp.views = 2;
   const auto rig = make_turntable(tp);
   BackgroundSpec bg;
-  bg.type = "plate";
+  bg.type = BackgroundType::Plate;
   auto bytes = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     std::string out;

@@ -14,7 +14,7 @@ TEST(StereoRgb, RenderedSilhouettesMatchTheExactLabelsOfBothCameras) {
   const Bunch b = generate_bunch(preset("summer-black"), 4);
   const RayScene scene(b);
   StereoRgbParams p;
-  p.background = "plain";
+  p.background = StereoRgbParams::Background::Plain;
   p.plain_colour = {0, 1, 0};  // pure green: no berry or stem is this colour
   p.noise_scale = 0;
   p.width = 400;
