@@ -19,38 +19,6 @@ namespace grapebench {
 
 namespace {
 
-// Bump when the meaning of a case file changes, so old results are recomputed.
-constexpr const char* kCaseFormat = "grapebench-case-4";
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-
-double truth_of(Quantity q, const GroundTruth& gt) {
-  switch (q) {
-    case Quantity::Volume: return gt.volume.solid;
-    case Quantity::Height: return gt.pca_extent(0);
-    case Quantity::Length: return gt.pca_extent(1);
-    case Quantity::Width: return gt.pca_extent(2);
-    case Quantity::PerimeterH: return gt.section_perimeter(0);
-    case Quantity::PerimeterL: return gt.section_perimeter(1);
-    case Quantity::PerimeterW: return gt.section_perimeter(2);
-    // Seed 003: the hanging bunch's length and width, larger first.
-    case Quantity::SizeMajor: return std::max(gt.height, gt.row_width);
-    case Quantity::SizeMinor: return std::min(gt.height, gt.row_width);
-  }
-  return 0;
-}
-
 Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = Eigen::AngleAxisd(angle_rad, Vec3::UnitZ()).toRotationMatrix();
@@ -59,59 +27,6 @@ Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) 
 }
 
 }  // namespace
-
-std::string case_key(const Condition& condition, const BunchJob& job) {
-  nlohmann::ordered_json j = scene_json(condition.scene);
-  j["format"] = kCaseFormat;
-  j["job"] = {{"preset", job.preset}, {"index", job.index}, {"seed", job.seed}, {"params", params_json(job.params)}};
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(j.dump())));
-  return hex;
-}
-
-std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
-                                        const PointCloud& viewpoints, const GroundTruth& gt, const std::string& cloud_error) {
-  std::vector<EstimateRow> rows;
-  for (const auto& spec : specs) {
-    Estimate est;
-    std::string error = cloud_error;
-    double secs = 0, heap_mb = -1;
-    if (error.empty()) {
-      const HeapMeter meter;
-      const auto t0 = std::chrono::steady_clock::now();
-      try {
-        est = spec.run(cloud, viewpoints);
-      } catch (const std::exception& e) {
-        error = e.what();
-      }
-      secs = seconds_since(t0);
-      if (heap_meter_available()) heap_mb = static_cast<double>(meter.peak_bytes()) / 1e6;
-    }
-    for (const Quantity q : spec.quantities) {
-      EstimateRow row;
-      row.estimator = spec.name;
-      row.type = spec.type;
-      row.quantity = quantity_name(q);
-      row.truth = truth_of(q, gt);  // zero when the case failed before its ground truth
-      row.seconds = secs;
-      row.peak_heap_mb = heap_mb;
-      row.error = error;
-      row.region_points = static_cast<std::size_t>(cloud.rows());
-      if (error.empty()) {
-        for (const auto& [qq, v] : est.values) {
-          if (qq == q) {
-            row.estimate = v;
-            row.ok = std::isfinite(v);
-          }
-        }
-        if (!row.ok) row.error = "the estimator gave no finite value";
-        row.watertight = est.watertight;
-      }
-      rows.push_back(row);
-    }
-  }
-  return rows;
-}
 
 CaseResult run_case(const Condition& condition, int condition_index, const BunchJob& job) {
   const Scene& scene = condition.scene;
@@ -280,87 +195,6 @@ CaseResult run_case(const Condition& condition, int condition_index, const Bunch
   r.rows = run_estimators(scene.estimators, merged, viewpoints, gt, r.ok ? "" : "no cloud: " + r.error);
   if (scene.pipeline.visibility_hull > 0) r.rows.push_back(floor_row);
   return r;
-}
-
-nlohmann::ordered_json case_to_json(const CaseResult& c) {
-  nlohmann::ordered_json j;
-  j["format"] = kCaseFormat;
-  j["key"] = c.key;
-  j["condition"] = c.condition;
-  j["bunch"] = c.bunch;
-  j["preset"] = c.preset;
-  j["seed"] = c.seed;
-  j["ok"] = c.ok;
-  j["error"] = c.error;
-  j["points"] = c.points;
-  j["views"] = c.views;
-  j["rotation_error_mean_deg"] = c.rotation_error_mean_deg;
-  j["rotation_error_max_deg"] = c.rotation_error_max_deg;
-  j["translation_error_mean_mm"] = c.translation_error_mean_mm;
-  j["translation_error_max_mm"] = c.translation_error_max_mm;
-  j["scan_seconds"] = c.scan_seconds;
-  j["registration_seconds"] = c.registration_seconds;
-  j["segmentation_precision"] = c.segmentation_precision;
-  j["segmentation_recall"] = c.segmentation_recall;
-  j["peduncle_kept"] = c.peduncle_kept;
-  j["body_kept"] = c.body_kept;
-  j["segmentation_seconds"] = c.segmentation_seconds;
-  j["filter_seconds"] = c.filter_seconds;
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (const auto& r : c.rows) {
-    rows.push_back({{"estimator", r.estimator}, {"type", r.type}, {"quantity", r.quantity}, {"ok", r.ok},
-                    {"estimate", r.estimate}, {"truth", r.truth}, {"watertight", r.watertight}, {"error", r.error},
-                    {"seconds", r.seconds}, {"peak_heap_mb", r.peak_heap_mb}, {"frame", r.frame}, {"roi", r.roi},
-                    {"region", r.region}, {"region_points", r.region_points}, {"region_precision", r.region_precision}});
-  }
-  j["rows"] = rows;
-  return j;
-}
-
-CaseResult case_from_json(const nlohmann::json& j) {
-  if (j.value("format", "") != kCaseFormat) throw std::runtime_error("case file of another format");
-  CaseResult c;
-  c.key = j.at("key").get<std::string>();
-  c.condition = j.at("condition").get<int>();
-  c.bunch = j.at("bunch").get<int>();
-  c.preset = j.at("preset").get<std::string>();
-  c.seed = j.at("seed").get<std::uint64_t>();
-  c.ok = j.at("ok").get<bool>();
-  c.error = j.at("error").get<std::string>();
-  c.points = j.at("points").get<std::size_t>();
-  c.views = j.at("views").get<int>();
-  c.rotation_error_mean_deg = j.at("rotation_error_mean_deg").get<double>();
-  c.rotation_error_max_deg = j.at("rotation_error_max_deg").get<double>();
-  c.translation_error_mean_mm = j.at("translation_error_mean_mm").get<double>();
-  c.translation_error_max_mm = j.at("translation_error_max_mm").get<double>();
-  c.scan_seconds = j.at("scan_seconds").get<double>();
-  c.registration_seconds = j.at("registration_seconds").get<double>();
-  c.segmentation_precision = j.at("segmentation_precision").get<double>();
-  c.segmentation_recall = j.at("segmentation_recall").get<double>();
-  c.peduncle_kept = j.at("peduncle_kept").get<double>();
-  c.body_kept = j.at("body_kept").get<double>();
-  c.segmentation_seconds = j.at("segmentation_seconds").get<double>();
-  c.filter_seconds = j.at("filter_seconds").get<double>();
-  for (const auto& r : j.at("rows")) {
-    EstimateRow e;
-    e.estimator = r.at("estimator").get<std::string>();
-    e.type = r.at("type").get<std::string>();
-    e.quantity = r.at("quantity").get<std::string>();
-    e.ok = r.at("ok").get<bool>();
-    e.estimate = r.at("estimate").get<double>();
-    e.truth = r.at("truth").get<double>();
-    e.watertight = r.at("watertight").get<bool>();
-    e.error = r.at("error").get<std::string>();
-    e.seconds = r.at("seconds").get<double>();
-    e.peak_heap_mb = r.at("peak_heap_mb").get<double>();
-    e.frame = r.at("frame").get<int>();
-    e.roi = r.at("roi").get<std::string>();
-    e.region = r.at("region").get<int>();
-    e.region_points = r.at("region_points").get<std::size_t>();
-    e.region_precision = r.at("region_precision").get<double>();
-    c.rows.push_back(e);
-  }
-  return c;
 }
 
 }  // namespace grapebench

@@ -1,90 +1,12 @@
 // One case of a run: one bunch under one condition, from generation to scores.
 #pragma once
 
+#include "bench/case_result.h"
 #include "bench/scene.h"
-#include "synth/ground_truth.h"
-
-#include <nlohmann/json.hpp>
-
-#include <string>
-#include <vector>
 
 namespace grapebench {
 
-// One estimated quantity beside its truth. SI units (m3, m).
-struct EstimateRow {
-  std::string estimator;  // the scene's name for it
-  std::string type;
-  std::string quantity;   // volume | height | length | width
-  bool ok = false;        // false: the estimator failed (error says why)
-  double estimate = 0;
-  double truth = 0;
-  bool watertight = false;
-  std::string error;
-  double seconds = 0;     // wall time of the estimator (not deterministic)
-  double peak_heap_mb = -1;  // most heap (operator new) it held above its start, MB; -1: not measured
-  // Single-frame pipelines (seed 003): the view, the ROI kind (auto_r, auto_cm,
-  // manual_r, manual_cm) and the region's index in that frame; -1 / "" otherwise.
-  int frame = -1;
-  std::string roi;
-  int region = -1;
-  std::size_t region_points = 0;  // points the estimator saw
-  double region_precision = -1;   // fraction of them on the bunch (labels); -1: n/a
-};
-
-struct CaseResult {
-  int condition = 0;
-  int bunch = 0;
-  std::string preset;
-  std::uint64_t seed = 0;
-  std::string key;        // hash of everything the case depends on (resume check)
-  bool ok = false;        // false: the scan or registration failed (error says why)
-  std::string error;
-  std::size_t points = 0;  // bunch points after segmentation and registration
-  int views = 0;
-  // Registration against the true relative poses (0 with true_poses).
-  double rotation_error_mean_deg = 0, rotation_error_max_deg = 0;
-  double translation_error_mean_mm = 0, translation_error_max_mm = 0;
-  // Segmentation and view filters against the scan's labels, over all views:
-  // precision = bunch points kept / points kept; recall = bunch points kept / bunch
-  // returns. 1 and 1 for label segmentation without filters.
-  double segmentation_precision = 0, segmentation_recall = 0;
-  // Cloud filters: fraction of the peduncle points and of the other bunch points of
-  // the registered cloud they keep (0 and 0 without cloud filters).
-  double peduncle_kept = 0, body_kept = 0;
-  std::vector<EstimateRow> rows;
-  // Not deterministic:
-  double scan_seconds = 0, segmentation_seconds = 0, registration_seconds = 0, filter_seconds = 0;
-};
-
-// Everything a case depends on, hashed: the condition's full parameters, the bunch
-// job and the program's format version.
-std::string case_key(const Condition& condition, const BunchJob& job);
-
-// Runs pipeline steps in order on a cloud and a per-point value carried along (labels,
-// pixel indices): each step says which input point every output point comes from.
-template <class T>
-void apply_filters(const std::vector<FilterSpec>& steps, PointCloud& cloud, std::vector<T>& carried) {
-  for (const auto& f : steps) {
-    if (cloud.rows() == 0) return;
-    FilteredCloud out = f.run(cloud);
-    std::vector<T> next(out.source.size());
-    for (std::size_t i = 0; i < next.size(); ++i) next[i] = carried[static_cast<std::size_t>(out.source[i])];
-    cloud = std::move(out.points);
-    carried = std::move(next);
-  }
-}
-
-// The rows of every estimator of `specs` on one cloud, timed, with their truths; when
-// `cloud_error` is set the cloud could not be made and every row fails with it.
-// viewpoints: per point, the centre of the camera that saw it (N x 3, the cloud's frame).
-std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
-                                        const PointCloud& viewpoints, const GroundTruth& gt, const std::string& cloud_error);
-
 // Runs a case; errors of the bunch's scan or an estimator are recorded, not thrown.
 CaseResult run_case(const Condition& condition, int condition_index, const BunchJob& job);
-
-nlohmann::ordered_json case_to_json(const CaseResult& c);
-CaseResult case_from_json(const nlohmann::json& j);
 
 }  // namespace grapebench

@@ -2,7 +2,7 @@
 // of a scan is measured alone, as the paper does with each RealSense frame.
 #pragma once
 
-#include "bench/case_run.h"
+#include "bench/case_result.h"
 #include "sensors/scan.h"
 
 namespace grapebench {

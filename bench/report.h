@@ -1,7 +1,7 @@
 // The self-contained HTML report of a run, with its plots as SVG.
 #pragma once
 
-#include "bench/runner.h"
+#include "bench/case_scores.h"
 #include "bench/size_error.h"
 
 #include <map>

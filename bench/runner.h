@@ -4,7 +4,6 @@
 
 #include "bench/case_run.h"
 #include "bench/scene.h"
-#include "bench/scoring.h"
 
 #include <filesystem>
 #include <string>
@@ -35,25 +34,5 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& options);
 // and report; throws InputError naming the missing or mismatched cases.
 RunOutcome merge_shards(const SceneSet& set, const std::vector<std::filesystem::path>& shard_dirs,
                         const RunOptions& options);
-
-// One line of the scores table (summary.json, leaderboard, report).
-struct ScoreRow {
-  int condition = 0;
-  std::string estimator, type, quantity;
-  Score score;
-  double peak_heap_mb_max = 0;  // largest peak heap of one run, MB (NaN: not measured); not deterministic
-};
-std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseResult>& cases);
-
-// Registration per condition over its successful cases (summary.json, report).
-struct RegistrationRow {
-  int cases = 0, failed = 0;
-  double rotation_max_deg_mean = 0;   // mean over cases of the per-case worst view
-  double rotation_max_deg_worst = 0;
-  double translation_max_mm_mean = 0;
-  // Means over the cases of the pipeline's label scores (case_run.h).
-  double segmentation_precision = 0, segmentation_recall = 0, peduncle_kept = 0, body_kept = 0;
-};
-std::vector<RegistrationRow> registration_rows(const SceneSet& set, const std::vector<CaseResult>& cases);
 
 }  // namespace grapebench

@@ -5,7 +5,7 @@
 #include "algorithms/registry.h"
 #include "algorithms/seed003_roi.h"
 #include "sensors/rig.h"
-#include "sensors/sensor.h"
+#include "sensors/sensor_registry.h"
 #include "synth/foliage.h"
 #include "synth/params.h"
 

@@ -2,7 +2,7 @@
 // frame and region, from the size_major / size_minor rows of single-frame runs.
 #pragma once
 
-#include "bench/case_run.h"
+#include "bench/case_result.h"
 #include "bench/scene.h"
 
 #include <array>

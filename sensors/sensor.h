@@ -5,7 +5,7 @@
 #include "sensors/cloud.h"
 #include "sensors/ray_scene.h"
 #include "synth/config.h"
-#include "synth/registry.h"
+#include "synth/param_table.h"
 
 #include <nlohmann/json.hpp>
 
@@ -31,10 +31,6 @@ class Sensor {
   virtual nlohmann::ordered_json describe() const = 0;
 };
 
-// Every registered sensor; adding one is one file pair plus one line in sensor.cpp.
-const Registry<std::unique_ptr<Sensor>>& sensor_registry();
-// Builds the sensor a scene's `sensor:` mapping names; errors name file:line.
-std::unique_ptr<Sensor> make_sensor(const ConfigNode& node);
 
 // Helpers shared by the models.
 // Shaded colour of a point from the cosine of incidence (Hit::cos_incidence). Inline:

@@ -54,6 +54,14 @@ std::string param_number(float v);
 // Renders rows as an aligned block, each key followed by its doc line.
 std::string render_keys(const std::vector<KeyInfo>& keys, const std::string& indent);
 
+// {"type": type, params...}: how an entry's parameters appear in manifests
+// (readable back as the scene section that made it).
+inline nlohmann::ordered_json with_type(const std::string& type, const nlohmann::ordered_json& params) {
+  nlohmann::ordered_json j = {{"type", type}};
+  for (const auto& [k, v] : params.items()) j[k] = v;
+  return j;
+}
+
 template <class T>
 class ParamTable {
  public:

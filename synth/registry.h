@@ -18,14 +18,6 @@
 
 namespace grapebench {
 
-// {"type": type, params...}: how an entry's parameters appear in manifests
-// (readable back as the scene section that made it).
-inline nlohmann::ordered_json with_type(const std::string& type, const nlohmann::ordered_json& params) {
-  nlohmann::ordered_json j = {{"type", type}};
-  for (const auto& [k, v] : params.items()) j[k] = v;
-  return j;
-}
-
 template <class Product>
 struct RegistryEntry {
   std::string type;

@@ -1,7 +1,7 @@
 // Every registered sensor, built from scene text through the registry, on a ball of
 // radius 5 cm at 1 m: its returns lie on the ball within the model's noise, and cover
 // the ball's projected disc.
-#include "sensors/sensor.h"
+#include "sensors/sensor_registry.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,248 @@
+#include "bench/outputs.h"
+
+#include "bench/case_scores.h"
+#include "bench/report.h"
+#include "bench/size_error.h"
+#include "synth/io.h"
+
+#include <tbb/info.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace grapebench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+std::string num(double v) {
+  if (!std::isfinite(v)) return "NaN";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.9g", v);
+  return b;
+}
+
+std::string results_csv(const SceneSet& set, const std::vector<CaseResult>& cases) {
+  std::ostringstream s;
+  s << "scene,condition";
+  for (const auto& a : set.base.sweep) s << "," << csv_field(a.key);
+  s << ",bunch,preset,seed,estimator,type,quantity,unit,estimate,truth,error,rel_error_pct,ok,watertight,points,"
+       "rotation_error_max_deg,translation_error_max_mm,message,frame,roi,region,region_points,region_precision\n";
+  for (const auto& c : cases) {
+    const Condition& cond = set.conditions[static_cast<std::size_t>(c.condition)];
+    for (const auto& r : c.rows) {
+      const double k = display_scale(r.quantity);
+      s << csv_field(set.base.name) << "," << csv_field(cond.label);
+      for (std::size_t a = 0; a < cond.values.size(); ++a) {
+        const auto& names = set.base.sweep[a].names;
+        s << "," << (names.empty() ? num(cond.values[a]) : csv_field(names[static_cast<std::size_t>(cond.values[a])]));
+      }
+      s << "," << c.bunch << "," << c.preset << "," << c.seed << "," << csv_field(r.estimator) << "," << r.type << ","
+        << r.quantity << "," << display_unit(r.quantity) << ",";
+      if (r.ok) {
+        s << num(r.estimate * k) << "," << num(r.truth * k) << "," << num((r.estimate - r.truth) * k) << ","
+          << num(100 * (r.estimate / r.truth - 1));
+      } else {
+        s << "NaN," << (c.ok ? num(r.truth * k) : "NaN") << ",NaN,NaN";
+      }
+      s << "," << (r.ok ? 1 : 0) << "," << (r.watertight ? 1 : 0) << "," << c.points << ","
+        << num(c.rotation_error_max_deg) << "," << num(c.translation_error_max_mm) << "," << csv_field(r.error) << ","
+        << r.frame << "," << r.roi << "," << r.region << "," << r.region_points << ","
+        << (r.region_precision >= 0 ? num(r.region_precision) : "NaN") << "\n";
+    }
+  }
+  return s.str();
+}
+
+std::string timings_csv(const SceneSet& set, const std::vector<CaseResult>& cases) {
+  std::ostringstream s;
+  s << "scene,condition,bunch,estimator,seconds,peak_heap_mb,scan_seconds,segmentation_seconds,registration_seconds,filter_seconds\n";
+  for (const auto& c : cases) {
+    const Condition& cond = set.conditions[static_cast<std::size_t>(c.condition)];
+    std::string last;
+    for (const auto& r : c.rows) {
+      if (r.estimator == last) continue;  // one timing per estimator run
+      last = r.estimator;
+      s << csv_field(set.base.name) << "," << csv_field(cond.label) << "," << c.bunch << "," << csv_field(r.estimator)
+        << "," << num(r.seconds) << "," << (r.peak_heap_mb >= 0 ? num(r.peak_heap_mb) : "NaN") << ","
+        << num(c.scan_seconds) << "," << num(c.segmentation_seconds) << "," << num(c.registration_seconds) << ","
+        << num(c.filter_seconds) << "\n";
+    }
+  }
+  return s.str();
+}
+
+nlohmann::ordered_json jnum(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); }
+
+nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseResult>& cases,
+                                    const std::vector<ScoreRow>& scores) {
+  nlohmann::ordered_json j;
+  j["scene"] = set.base.name;
+  j["cases"] = cases.size();
+  int failed = 0;
+  for (const auto& c : cases) failed += c.ok ? 0 : 1;
+  j["failed_scans"] = failed;
+  nlohmann::ordered_json conds = nlohmann::ordered_json::array();
+  for (const auto& c : set.conditions) conds.push_back(c.label);
+  j["conditions"] = conds;
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const auto& r : scores) {
+    const Score& s = r.score;
+    rows.push_back({{"condition", set.conditions[static_cast<std::size_t>(r.condition)].label},
+                    {"estimator", r.estimator},
+                    {"type", r.type},
+                    {"quantity", r.quantity},
+                    {"unit", display_unit(r.quantity)},
+                    {"cases", s.cases},
+                    {"succeeded", s.succeeded},
+                    {"success_rate", jnum(s.success_rate)},
+                    {"r2", jnum(s.r2)},
+                    {"r2_identity", jnum(s.r2_identity)},
+                    {"rmse", jnum(s.rmse)},
+                    {"mae", jnum(s.mae)},
+                    {"bias", jnum(s.bias)},
+                    {"mape_pct", jnum(s.mape)},
+                    {"slope", jnum(s.slope)},
+                    {"intercept", jnum(s.intercept)}});
+  }
+  j["scores"] = rows;
+  nlohmann::ordered_json reg = nlohmann::ordered_json::array();
+  const auto regs = registration_rows(set, cases);
+  for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+    reg.push_back({{"condition", set.conditions[c].label},
+                   {"registration", set.conditions[c].scene.pipeline.registration},
+                   {"rotation_error_max_deg_mean", regs[c].rotation_max_deg_mean},
+                   {"rotation_error_max_deg_worst", regs[c].rotation_max_deg_worst},
+                   {"translation_error_max_mm_mean", regs[c].translation_max_mm_mean},
+                   {"segmentation", set.conditions[c].scene.pipeline.segmentation},
+                   {"segmentation_precision_mean", regs[c].segmentation_precision},
+                   {"segmentation_recall_mean", regs[c].segmentation_recall},
+                   {"peduncle_kept_mean", regs[c].peduncle_kept},
+                   {"body_kept_mean", regs[c].body_kept}});
+  }
+  j["registration"] = reg;
+  return j;
+}
+
+nlohmann::ordered_json timings_json(const SceneSet& set, const std::vector<ScoreRow>& scores) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  std::string last;
+  for (const auto& r : scores) {
+    const std::string id = std::to_string(r.condition) + "/" + r.estimator;
+    if (id == last) continue;
+    last = id;
+    rows.push_back({{"condition", set.conditions[static_cast<std::size_t>(r.condition)].label},
+                    {"estimator", r.estimator},
+                    {"median_s", jnum(r.score.time_median)},
+                    {"p25_s", jnum(r.score.time_p25)},
+                    {"p75_s", jnum(r.score.time_p75)},
+                    {"peak_heap_mb_max", jnum(r.peak_heap_mb_max)}});
+  }
+  return rows;
+}
+
+std::string git_commit() {
+  FILE* p = popen("git rev-parse --short HEAD 2>/dev/null", "r");
+  if (!p) return "unknown";
+  char buf[64] = {};
+  const bool got = std::fgets(buf, sizeof buf, p) != nullptr;
+  pclose(p);
+  std::string s = got ? buf : "unknown";
+  while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
+  return s.empty() ? "unknown" : s;
+}
+
+nlohmann::ordered_json manifest_json(const SceneSet& set, int threads) {
+  nlohmann::ordered_json j;
+  j["scene_file"] = set.base.path;
+  std::ifstream in(set.base.path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  j["scene_text"] = text.str();
+  nlohmann::ordered_json sweep = nlohmann::ordered_json::array();
+  for (const auto& a : set.base.sweep) sweep.push_back({{"key", a.key}, {"values", a.values}});
+  j["sweep"] = sweep;
+  nlohmann::ordered_json conds = nlohmann::ordered_json::array();
+  for (const auto& c : set.conditions) {
+    nlohmann::ordered_json cj = {{"condition", c.label}, {"scene", scene_json(c.scene)}};
+    nlohmann::ordered_json seeds = nlohmann::ordered_json::array();
+    for (const auto& job : bunch_jobs(c.scene)) seeds.push_back({{"bunch", job.index}, {"preset", job.preset}, {"seed", job.seed}});
+    cj["bunch_seeds"] = seeds;
+    conds.push_back(cj);
+  }
+  j["conditions"] = conds;
+  j["git_commit"] = git_commit();
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  j["machine"] = {{"host", host}, {"cores", tbb::info::default_concurrency()}};
+  j["threads"] = threads;
+  return j;
+}
+
+std::string leaderboard(const SceneSet& set, const std::vector<ScoreRow>& scores) {
+  std::ostringstream s;
+  char line[256];
+  for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+    if (!set.conditions[c].label.empty()) s << "-- " << set.conditions[c].label << "\n";
+    std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8s %10s %10s %9s %8s %10s %8s\n", "estimator", "quantity",
+                  "ok", "R2", "RMSE", "bias", "MAPE %", "slope", "time ms", "heap MB");
+    s << line;
+    // Volume first, best MAPE first: the leaderboard.
+    std::vector<const ScoreRow*> rows;
+    for (const auto& r : scores) {
+      if (r.condition == static_cast<int>(c)) rows.push_back(&r);
+    }
+    std::stable_sort(rows.begin(), rows.end(), [](const ScoreRow* a, const ScoreRow* b) {
+      if (a->quantity != b->quantity) return a->quantity == "volume" || (b->quantity != "volume" && a->quantity < b->quantity);
+      const double ma = std::isfinite(a->score.mape) ? a->score.mape : 1e300;
+      const double mb = std::isfinite(b->score.mape) ? b->score.mape : 1e300;
+      return ma < mb;
+    });
+    for (const ScoreRow* r : rows) {
+      const Score& x = r->score;
+      char ok[16];
+      std::snprintf(ok, sizeof ok, "%d/%d", x.succeeded, x.cases);
+      std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8.3f %10.2f %10.2f %9.1f %8.3f %10.2f %8.1f  %s\n",
+                    r->estimator.c_str(), r->quantity.c_str(), ok, x.r2, x.rmse, x.bias, x.mape, x.slope,
+                    x.time_median * 1e3, r->peak_heap_mb_max, display_unit(r->quantity));
+      s << line;
+    }
+  }
+  return s.str();
+}
+
+}  // namespace
+
+std::string write_outputs(const SceneSet& set, const std::vector<CaseResult>& cases, const std::filesystem::path& out,
+                          int threads) {
+  const auto scores = score_cases(set, cases);
+  write_file_atomic(out / "results.csv", results_csv(set, cases));
+  write_file_atomic(out / "timings.csv", timings_csv(set, cases));
+  write_file_atomic(out / "summary.json", summary_json(set, cases, scores).dump(1) + "\n");
+  write_file_atomic(out / "timings.json", timings_json(set, scores).dump(1) + "\n");
+  write_file_atomic(out / "manifest.json", manifest_json(set, threads).dump(1) + "\n");
+  const auto size_cells = size_error_cells(set, cases);
+  if (!size_cells.empty()) {
+    write_file_atomic(out / "size_error.csv", size_error_csv(set, size_cells));
+    write_file_atomic(out / "size_error_table.md", size_error_table(size_cells));
+  }
+  const Report report = make_report(set, cases, scores, size_cells);
+  fs::create_directories(out / "plots");
+  for (const auto& [name, svg] : report.svgs) write_file_atomic(out / "plots" / name, svg);
+  write_file_atomic(out / "report.html", report.html);
+  return leaderboard(set, scores);
+}
+
+}  // namespace grapebench
