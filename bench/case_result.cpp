@@ -12,7 +12,7 @@ namespace grapebench {
 namespace {
 
 // Bump when the meaning of a case file changes, so old results are recomputed.
-constexpr const char* kCaseFormat = "grapebench-case-4";
+constexpr const char* kCaseFormat = "grapebench-case-5";
 
 std::uint64_t fnv1a(const std::string& s) {
   std::uint64_t h = 1469598103934665603ull;
@@ -91,6 +91,7 @@ std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs,
         }
         if (!row.ok) row.error = "the estimator gave no finite value";
         row.watertight = est.watertight;
+        row.notes = est.notes;
       }
       rows.push_back(row);
     }
@@ -127,7 +128,8 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
     rows.push_back({{"estimator", r.estimator}, {"type", r.type}, {"quantity", r.quantity}, {"ok", r.ok},
                     {"estimate", r.estimate}, {"truth", r.truth}, {"watertight", r.watertight}, {"error", r.error},
                     {"seconds", r.seconds}, {"peak_heap_mb", r.peak_heap_mb}, {"frame", r.frame}, {"roi", r.roi},
-                    {"region", r.region}, {"region_points", r.region_points}, {"region_precision", r.region_precision}});
+                    {"region", r.region}, {"region_points", r.region_points}, {"region_precision", r.region_precision},
+                    {"notes", r.notes}});
   }
   j["rows"] = rows;
   return j;
@@ -174,6 +176,7 @@ CaseResult case_from_json(const nlohmann::json& j) {
     e.region = r.at("region").get<int>();
     e.region_points = r.at("region_points").get<std::size_t>();
     e.region_precision = r.at("region_precision").get<double>();
+    e.notes = r.at("notes").get<std::string>();
     c.rows.push_back(e);
   }
   return c;

@@ -23,6 +23,7 @@ struct EstimateRow {
   double truth = 0;
   bool watertight = false;
   std::string error;
+  std::string notes;      // the estimator's diagnostics (points used, iterations, residuals)
   double seconds = 0;     // wall time of the estimator (not deterministic)
   double peak_heap_mb = -1;  // most heap (operator new) it held above its start, MB; -1: not measured
   // Single-frame pipelines (seed 003): the view, the ROI kind (auto_r, auto_cm,

@@ -39,7 +39,7 @@ std::string results_csv(const SceneSet& set, const std::vector<CaseResult>& case
   s << "scene,condition";
   for (const auto& a : set.base.sweep) s << "," << csv_field(a.key);
   s << ",bunch,preset,seed,estimator,type,quantity,unit,estimate,truth,error,rel_error_pct,ok,watertight,points,"
-       "rotation_error_max_deg,translation_error_max_mm,message,frame,roi,region,region_points,region_precision\n";
+       "rotation_error_max_deg,translation_error_max_mm,message,frame,roi,region,region_points,region_precision,notes\n";
   for (const auto& c : cases) {
     const Condition& cond = set.conditions[static_cast<std::size_t>(c.condition)];
     for (const auto& r : c.rows) {
@@ -60,7 +60,7 @@ std::string results_csv(const SceneSet& set, const std::vector<CaseResult>& case
       s << "," << (r.ok ? 1 : 0) << "," << (r.watertight ? 1 : 0) << "," << c.points << ","
         << num(c.rotation_error_max_deg) << "," << num(c.translation_error_max_mm) << "," << csv_field(r.error) << ","
         << r.frame << "," << r.roi << "," << r.region << "," << r.region_points << ","
-        << (r.region_precision >= 0 ? num(r.region_precision) : "NaN") << "\n";
+        << (r.region_precision >= 0 ? num(r.region_precision) : "NaN") << "," << csv_field(r.notes) << "\n";
     }
   }
   return s.str();

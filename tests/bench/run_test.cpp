@@ -174,6 +174,9 @@ TEST(Run, ScoresEveryEstimatorAndWritesAllFiles) {
   // 3 bunches x (CH + VB + 3 box quantities) rows plus the header.
   const std::string csv = slurp(out / "results.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 5);
+  // Each estimator's diagnostics reach its rows: the last column, `notes`.
+  EXPECT_NE(csv.find(",region_precision,notes\n"), std::string::npos) << csv.substr(0, 400);
+  EXPECT_NE(csv.find(" occupied voxels, "), std::string::npos) << csv;
   const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
   ASSERT_EQ(summary["scores"].size(), 5u);
   for (const auto& row : summary["scores"]) {
