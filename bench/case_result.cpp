@@ -54,6 +54,16 @@ std::string case_key(const Condition& condition, const BunchJob& job) {
   return hex;
 }
 
+CaseResult new_case(const Condition& condition, int condition_index, const BunchJob& job) {
+  CaseResult r;
+  r.condition = condition_index;
+  r.bunch = job.index;
+  r.preset = job.preset;
+  r.seed = job.seed;
+  r.key = case_key(condition, job);
+  return r;
+}
+
 std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
                                         const PointCloud& viewpoints, const GroundTruth& gt, const std::string& cloud_error) {
   std::vector<EstimateRow> rows;

@@ -84,6 +84,9 @@ void apply_filters(const std::vector<FilterSpec>& steps, PointCloud& cloud, std:
 std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
                                         const PointCloud& viewpoints, const GroundTruth& gt, const std::string& cloud_error);
 
+// A case's identity (condition, bunch, preset, seed, key), before any stage ran.
+CaseResult new_case(const Condition& condition, int condition_index, const BunchJob& job);
+
 nlohmann::ordered_json case_to_json(const CaseResult& c);
 // Throws when the file is of another format or a field is missing or of the wrong type.
 CaseResult case_from_json(const nlohmann::json& j);

@@ -6,7 +6,8 @@
 
 namespace grapebench {
 
-// Runs a case; errors of the bunch's scan or an estimator are recorded, not thrown.
+// Runs a case through the scene's protocol (bench/protocols/); errors of the bunch's
+// scan, a stage or an estimator are recorded, not thrown.
 CaseResult run_case(const Condition& condition, int condition_index, const BunchJob& job);
 
 }  // namespace grapebench

@@ -18,7 +18,7 @@ std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseRes
     const Scene& scene = set.conditions[c].scene;
     std::vector<Scored> scored;
     for (const auto& e : scene.estimators) scored.push_back({e.name, e.type, e.quantities});
-    if (scene.pipeline.visibility_hull > 0 && scene.pipeline.registration != "single_frame") {
+    if (scene.pipeline.visibility_hull > 0 && scene.protocol == "multi_view") {
       scored.push_back({"visibility_hull", "visibility_hull", {Quantity::Volume}});
     }
     for (const auto& spec : scored) {

@@ -4,7 +4,7 @@
 
 #include "bench/case_result.h"
 #include "bench/scene.h"
-#include "bench/scoring.h"
+#include "bench/scoring/scalars.h"
 
 #include <string>
 #include <vector>

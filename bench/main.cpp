@@ -3,7 +3,7 @@
 #include "bench/check.h"
 #include "bench/runner.h"
 #include "bench/scan_run.h"
-#include "bench/scene.h"
+#include "bench/scene_file.h"
 #include "bench/synth_run.h"
 #include "synth/config.h"
 #include "synth/params.h"

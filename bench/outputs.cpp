@@ -122,7 +122,7 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
   const auto regs = registration_rows(set, cases);
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
     reg.push_back({{"condition", set.conditions[c].label},
-                   {"registration", set.conditions[c].scene.pipeline.registration},
+                   {"registration", registration_label(set.conditions[c].scene)},
                    {"rotation_error_max_deg_mean", regs[c].rotation_max_deg_mean},
                    {"rotation_error_max_deg_worst", regs[c].rotation_max_deg_worst},
                    {"translation_error_max_mm_mean", regs[c].translation_max_mm_mean},
@@ -130,7 +130,8 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
                    {"segmentation_precision_mean", regs[c].segmentation_precision},
                    {"segmentation_recall_mean", regs[c].segmentation_recall},
                    {"peduncle_kept_mean", regs[c].peduncle_kept},
-                   {"body_kept_mean", regs[c].body_kept}});
+                   {"body_kept_mean", regs[c].body_kept},
+                   {"protocol", set.conditions[c].scene.protocol}});
   }
   j["registration"] = reg;
   return j;

@@ -275,7 +275,7 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
     h << "<tr><td class=l>" << esc(set.conditions[c].label) << "</td><td class=l>" << pl.segmentation;
     for (const auto& f : pl.view_filters) h << " + " << f.type;
     h << "</td><td>" << fmt(r.segmentation_precision) << "</td><td>" << fmt(r.segmentation_recall) << "</td><td class=l>"
-      << pl.registration << "</td><td>" << r.cases << "</td><td>" << fmt(r.rotation_max_deg_mean) << "</td><td>"
+      << registration_label(set.conditions[c].scene) << "</td><td>" << r.cases << "</td><td>" << fmt(r.rotation_max_deg_mean) << "</td><td>"
       << fmt(r.rotation_max_deg_worst) << "</td><td>" << fmt(r.translation_max_mm_mean) << "</td><td>";
     if (pl.cloud_filters.empty()) {
       h << "-</td><td>-";

@@ -13,8 +13,7 @@ namespace grapebench {
 
 namespace {
 
-const std::vector<std::string> kRegistrations = {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp",
-                                                 "single_frame"};
+const std::vector<std::string> kRegistrations = {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp"};
 
 std::vector<std::pair<std::string, std::string>> names(const std::vector<std::string>& list) {
   std::vector<std::pair<std::string, std::string>> out;
@@ -22,8 +21,9 @@ std::vector<std::pair<std::string, std::string>> names(const std::vector<std::st
   return out;
 }
 
-bool single_frame(const PipelineSpec& p) { return p.registration == "single_frame"; }
-bool uses_icp(const PipelineSpec& p) { return p.registration != "true_poses" && !single_frame(p); }
+bool single_frame(const PipelineSpec& p) { return p.protocol == "single_frame"; }
+bool multi_view(const PipelineSpec& p) { return p.protocol == "multi_view"; }
+bool uses_icp(const PipelineSpec& p) { return multi_view(p) && p.registration != "true_poses"; }
 
 nlohmann::ordered_json steps_json(const std::vector<FilterSpec>& list) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
@@ -38,10 +38,12 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
   static const ParamTable<P> table =
       ParamTable<P>()
           .choice("segmentation", &P::segmentation, names({"labels", "none"}),
-                  "labels: the returns on bunch parts (an oracle); none: every return, view_filters must find the bunch")
+                  "labels: the returns on bunch parts (an oracle); none: every return, view_filters must find the "
+                  "bunch (single_frame: none only)")
           .choice("registration", &P::registration, names(kRegistrations),
-                  "true_poses; seed000_pca_icp (seed 000); known_angle_icp (seed 002 Eqs. 1-4); plain_icp; "
-                  "single_frame (seed 003: every view measured alone)")
+                  "how the views are brought together: true_poses; seed000_pca_icp (seed 000); known_angle_icp "
+                  "(seed 002 Eqs. 1-4); plain_icp")
+          .when("protocol: multi_view", multi_view)
           .section("icp", &P::icp, icp_param_table(), "ICP of the registration")
           .when("an ICP registration", uses_icp)
           .integer("group_size", "count", &P::group_size, 1, 360, "views per group (seed 000's grouped registration)")
@@ -52,21 +54,24 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
           .real("angle_error_sd_deg", "deg", &P::angle_error_sd_deg, 0, 45, "turntable positioning error, seeded")
           .when("registration: known_angle_icp", [](const P& p) { return p.registration == "known_angle_icp"; })
           .real("min_points", "count", &P::min_points, 4, 1e9, "a case with fewer bunch points fails")
-          .when("a registered cloud (not single_frame)", [](const P& p) { return !single_frame(p); })
+          .when("protocol: multi_view", multi_view)
           .real("visibility_hull", "m", &P::visibility_hull, 0, 0.05,
                 "0 off; else the step of the rig's visibility hull, a volume row `visibility_hull` (the floor)")
-          .when("a registered cloud (not single_frame)", [](const P& p) { return !single_frame(p); })
+          .when("protocol: multi_view", multi_view)
           .choice_list("rois", &P::rois, names({"auto_r", "auto_cm", "manual_r", "manual_cm"}), 1,
                        "ROI kinds measured (seed 003: ROI_R^A, ROI_CM^A, ROI_R^M, ROI_CM^M)")
-          .when("registration: single_frame", single_frame)
+          .when("protocol: single_frame", single_frame)
           .section("roi", &P::roi, seed003_roi_param_table(), "seed 003's detection and ROI (Sect. II-B)")
-          .when("registration: single_frame", single_frame)
+          .when("protocol: single_frame", single_frame)
           .boolean("fine_tune", &P::fine_tune, "the fine-tuning step on every ROI (seed 003)")
-          .when("registration: single_frame", single_frame)
+          .when("protocol: single_frame", single_frame)
           .integer("manual_min_berry_points", "count", &P::manual_min_berry_points, 1, 100000000,
                    "fewer visible berry returns: no manual label")
-          .when("registration: single_frame", single_frame)
+          .when("protocol: single_frame", single_frame)
           .validate([](const P& p, const ConfigNode& n) {
+            if (single_frame(p) && p.segmentation != "none") {
+              n.fail("segmentation", "the single_frame protocol measures every return of a frame (seed 003): only none");
+            }
             if (p.visibility_hull > 0 && p.visibility_hull < 1e-4) {
               n.fail("visibility_hull", "must be 0 (off) or lie in [1e-4, 0.05] m");
             }
@@ -77,14 +82,19 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
 nlohmann::ordered_json PipelineSpec::describe() const {
   nlohmann::ordered_json j = pipeline_param_table().to_json(*this);
   j["view_filters"] = steps_json(view_filters);
-  j["cloud_filters"] = steps_json(cloud_filters);
+  if (multi_view(*this)) j["cloud_filters"] = steps_json(cloud_filters);
   return j;
 }
 
-namespace {
-
-PipelineSpec read_pipeline(const ConfigNode& n) {
+PipelineSpec pipeline_defaults(const std::string& protocol) {
   PipelineSpec p;
+  p.protocol = protocol;
+  if (single_frame(p)) p.segmentation = "none";
+  return p;
+}
+
+PipelineSpec read_pipeline(const ConfigNode& n, const std::string& protocol) {
+  PipelineSpec p = pipeline_defaults(protocol);
   pipeline_param_table().read(n, p);
   for (const char* list : {"view_filters", "cloud_filters"}) {
     if (!n.has(list)) continue;
@@ -94,6 +104,9 @@ PipelineSpec read_pipeline(const ConfigNode& n) {
       spec.type = spec.params["type"].get<std::string>();
       (list == std::string("view_filters") ? p.view_filters : p.cloud_filters).push_back(std::move(spec));
     }
+  }
+  if (n.has("cloud_filters") && !multi_view(p)) {
+    n.fail("cloud_filters", "is read only with protocol: multi_view (a registered cloud); use view_filters");
   }
   return p;
 }
@@ -120,200 +133,8 @@ std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
   return out;
 }
 
-// Values of one sweep axis: a list of numbers, or {from, to, step}.
-std::vector<double> sweep_values(const ConfigNode& sweep, const std::string& key) {
-  const YAML::Node v = sweep.yaml()[key];
-  if (v.IsSequence()) return sweep.get_real_list_any(key, 1, 10000, -1e300, 1e300);
-  if (v.IsMap()) {
-    const ConfigNode r = sweep.child(key);
-    const double from = r.get_real("from", 0, -1e300, 1e300), to = r.get_real("to", 0, -1e300, 1e300);
-    if (!r.has("from") || !r.has("to") || !r.has("step")) r.fail("", "a range needs from, to and step");
-    const double step = r.get_real("step", 1, 1e-300, 1e300);
-    const double count = std::floor((to - from) / step + 1e-9) + 1;
-    if (!(count >= 1 && count <= 10000)) r.fail("step", "gives " + std::to_string(count) + " values; allowed 1-10000");
-    std::vector<double> out;
-    for (int k = 0; k < static_cast<int>(count); ++k) out.push_back(from + k * step);
-    return out;
-  }
-  sweep.fail(key, "expected a list of numbers or {from, to, step}");
-}
-
-Scene read_scene(const ConfigNode& root, const std::string& path) {
-  Scene s;
-  s.path = path;
-  s.name = root.get_string("name", std::filesystem::path(path).stem().string());
-  if (!root.has("seed")) root.fail("seed", "missing: every scene names its seed (an unsigned integer)");
-  s.seed = root.get_seed("seed", 0);
-  if (!root.has("bunches")) root.fail("bunches", "missing: a list of {preset, count, parameters...}");
-  for (const auto& node : root.children("bunches")) {
-    BunchGroup g;
-    g.preset = node.get_choice("preset", "table-red", preset_names());
-    g.count = static_cast<int>(node.get_int("count", 1, 1, 100000));
-    g.params = preset(g.preset);
-    read_bunch_params(node, g.params);
-    s.groups.push_back(std::move(g));
-  }
-  if (s.groups.empty()) root.fail("bunches", "the list is empty");
-  if (root.has("sensor")) s.sensor = make_sensor(root.child("sensor"));
-  if (root.has("rig")) s.rig = make_rig(root.child("rig"));
-  if (root.has("background")) s.background = read_background(root.child("background"));
-  if (root.has("foliage")) s.foliage = read_foliage(root.child("foliage"));
-  if (s.rig && !s.sensor) root.fail("rig", "a rig needs a `sensor:` section");
-  if (root.has("pipeline")) s.pipeline = read_pipeline(root.child("pipeline"));
-  if (root.has("estimators")) s.estimators = read_estimators(root);
-  if (!s.estimators.empty() && !s.rig) root.fail("estimators", "estimators need a `sensor:` and a `rig:` to scan with");
-  if (root.has("sweep")) {
-    const ConfigNode sweep = root.child("sweep");
-    for (const auto& kv : sweep.yaml()) {
-      const std::string key = kv.first.as<std::string>();
-      const YAML::Node list = kv.second;
-      bool named = list.IsSequence() && list.size() > 0;
-      for (std::size_t i = 0; named && i < list.size(); ++i) {
-        double ignored;
-        named = list[i].IsScalar() && !YAML::convert<double>::decode(list[i], ignored);
-      }
-      if (named) {
-        SweepAxis axis{key, {}, sweep.get_string_list(key, 1)};
-        for (std::size_t i = 0; i < axis.names.size(); ++i) axis.values.push_back(static_cast<double>(i));
-        s.sweep.push_back(std::move(axis));
-      } else {
-        s.sweep.push_back({key, sweep_values(sweep, key), {}});
-      }
-    }
-    if (s.sweep.empty()) root.fail("sweep", "the mapping is empty");
-  }
-  root.report_unused();
-  return s;
-}
-
-}  // namespace
-
-Scene load_scene(const std::string& path) { return read_scene(ConfigNode::load_file(path), path); }
-
-namespace {
-
-// Points `root` at path (dotted, `name[i]` indexes a list, a list without an index
-// means every element) and sets the value there.
-void substitute(YAML::Node node, const std::string& path, const YAML::Node& value, const std::string& where) {
-  const auto dot = path.find('.');
-  std::string head = path.substr(0, dot);
-  const std::string rest = dot == std::string::npos ? "" : path.substr(dot + 1);
-  int index = -1;
-  if (const auto br = head.find('['); br != std::string::npos && head.back() == ']') {
-    try {
-      index = std::stoi(head.substr(br + 1, head.size() - br - 2));
-    } catch (const std::exception&) {
-      throw InputError(where + ": sweep key '" + path + "': bad index in '" + head + "'");
-    }
-    head = head.substr(0, br);
-  }
-  if (node.IsMap() && !node[head] && rest.empty() && index < 0) {
-    node[head] = value;  // a key left at its default; an unknown key is reported by the parser
-    return;
-  }
-  if (!node.IsMap() || !node[head]) {
-    throw InputError(where + ": sweep key '" + path + "': the scene has no '" + head +
-                     "' here; sweep a key the scene sets (write its nominal value in the scene)");
-  }
-  YAML::Node child = node[head];
-  std::vector<YAML::Node> targets;
-  if (child.IsSequence()) {
-    if (index >= static_cast<int>(child.size())) {
-      throw InputError(where + ": sweep key '" + path + "': index " + std::to_string(index) + " beyond the list of " +
-                       std::to_string(child.size()));
-    }
-    if (index >= 0) {
-      targets.push_back(child[static_cast<std::size_t>(index)]);
-    } else {
-      for (auto e : child) targets.push_back(e);
-    }
-  } else {
-    if (index >= 0) throw InputError(where + ": sweep key '" + path + "': '" + head + "' is not a list");
-    if (rest.empty()) {
-      node[head] = value;
-      return;
-    }
-    targets.push_back(child);
-  }
-  if (rest.empty()) throw InputError(where + ": sweep key '" + path + "': names a list, not a number");
-  for (auto& t : targets) substitute(t, rest, value, where);
-}
-
-std::string number_label(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
-YAML::Node parse_yaml(const std::string& text, const std::string& name) {
-  try {
-    return YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  }
-}
-
-// Each condition re-parses the text (YAML::Clone would drop the line marks).
-SceneSet expand(const std::string& text, const std::string& name) {
-  SceneSet set;
-  const YAML::Node root_yaml = parse_yaml(text, name);
-  set.base = read_scene(ConfigNode::from_yaml(root_yaml, name), name);
-  if (set.base.sweep.empty()) {
-    set.conditions.push_back({{}, "", set.base});
-    return set;
-  }
-  std::size_t total = 1;
-  for (const auto& a : set.base.sweep) total *= a.values.size();
-  if (total > 100000) throw InputError(name + ": the sweep has " + std::to_string(total) + " points; at most 100000");
-  const std::string sweep_line = ConfigNode::from_yaml(root_yaml, name).where("sweep");
-  for (std::size_t flat = 0; flat < total; ++flat) {
-    Condition c;
-    YAML::Node doc = parse_yaml(text, name);
-    doc.remove("sweep");
-    std::size_t rest = flat;
-    std::vector<std::size_t> idx(set.base.sweep.size());
-    for (std::size_t a = set.base.sweep.size(); a-- > 0;) {
-      idx[a] = rest % set.base.sweep[a].values.size();
-      rest /= set.base.sweep[a].values.size();
-    }
-    for (std::size_t a = 0; a < set.base.sweep.size(); ++a) {
-      const auto& axis = set.base.sweep[a];
-      const double v = axis.values[idx[a]];
-      c.values.push_back(v);
-      // A list element keeps its line, so a value out of range names where it was written.
-      const YAML::Node written = root_yaml["sweep"][axis.key];
-      YAML::Node value = written.IsSequence() ? written[idx[a]] : YAML::Node(v);
-      substitute(doc, axis.key, value, sweep_line);
-      const auto dot = axis.key.rfind('.');
-      c.label += (c.label.empty() ? "" : " ") + axis.key.substr(dot == std::string::npos ? 0 : dot + 1) + "=" +
-                 (axis.names.empty() ? number_label(v) : axis.names[idx[a]]);
-    }
-    try {
-      c.scene = read_scene(ConfigNode::from_yaml(doc, name), name);
-    } catch (const InputError& e) {
-      throw InputError(std::string(e.what()) + " (sweep point " + c.label + ")");
-    }
-    c.scene.sweep = set.base.sweep;
-    set.conditions.push_back(std::move(c));
-  }
-  return set;
-}
-
-}  // namespace
-
-SceneSet parse_scene_set(const std::string& text, const std::string& name) { return expand(text, name); }
-
-SceneSet load_scene_set(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scene_set(text.str(), path);
-}
-
-Scene parse_scene(const std::string& text, const std::string& name) {
-  return read_scene(ConfigNode::load_string(text, name), name);
+std::string registration_label(const Scene& scene) {
+  return scene.protocol == "multi_view" ? scene.pipeline.registration : scene.protocol;
 }
 
 RayScene scene_rays(const Scene& scene, const Bunch& bunch, std::uint64_t bunch_seed) {
@@ -338,6 +159,7 @@ nlohmann::ordered_json scene_json(const Scene& s) {
   j["background"] = background_param_table().to_json(s.background);
   if (s.foliage) j["foliage"] = foliage_param_table().to_json(*s.foliage);
   j["pipeline"] = s.pipeline.describe();
+  j["protocol"] = s.protocol;
   if (!s.estimators.empty()) {
     nlohmann::ordered_json est = nlohmann::ordered_json::array();
     for (const auto& e : s.estimators) {

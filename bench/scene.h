@@ -40,11 +40,13 @@ struct PipelineSpec {
   std::string segmentation = "labels";
   std::vector<FilterSpec> view_filters;
   std::vector<FilterSpec> cloud_filters;
-  // true_poses | seed000_pca_icp | known_angle_icp | plain_icp | single_frame.
-  // single_frame (seed 003): no registration; every view is measured alone: its
-  // returns (segmentation none) go through view_filters (the pass-through), then each
-  // ROI of `rois` is fine-tuned and the estimators run on it (rows per frame and ROI).
+  // multi_view: true_poses | seed000_pca_icp | known_angle_icp | plain_icp. The
+  // single_frame protocol (seed 003) registers nothing: every view is measured alone:
+  // its returns go through view_filters (the pass-through), then each ROI of `rois` is
+  // fine-tuned and the estimators run on it (rows per frame and ROI).
   std::string registration = "true_poses";
+  // The scene's protocol (context for which keys apply; not a key of `pipeline:`).
+  std::string protocol = "multi_view";
   // single_frame: auto_r (ROI_R^A), auto_cm (ROI_CM from it, Eq. 2), manual_r (ROI_R^M:
   // the annotator's region, here perfect: the returns labelled berry, pedicel or
   // rachis), manual_cm.
@@ -89,6 +91,9 @@ struct Scene {
   std::string path;
   std::string name;
   std::uint64_t seed = 0;
+  // The registered protocol a case runs (bench/protocols/): multi_view (seeds 000, 002)
+  // or single_frame (seed 003).
+  std::string protocol = "multi_view";
   std::vector<BunchGroup> groups;
   // Capture (optional sections `sensor`, `rig`, `background`); built while parsing so
   // their errors name file:line before any work starts.
@@ -124,12 +129,16 @@ struct BunchJob {
   BunchParams params;
 };
 
-// Throws InputError naming file:line, key and allowed range; unknown keys are errors.
-Scene load_scene(const std::string& path);
-Scene parse_scene(const std::string& text, const std::string& name);
-// A scene with its sweep expanded (the product of the axes, first axis slowest).
-SceneSet load_scene_set(const std::string& path);
-SceneSet parse_scene_set(const std::string& text, const std::string& name);
+// Section readers (bench/scene_file.h reads whole files). Errors name file:line, key
+// and allowed range.
+PipelineSpec read_pipeline(const ConfigNode& node, const std::string& protocol);
+// The pipeline of a scene without a `pipeline:` section.
+PipelineSpec pipeline_defaults(const std::string& protocol);
+// What brought the views together, for tables: the registration method, or the
+// protocol's name where it registers nothing (single_frame).
+std::string registration_label(const Scene& scene);
+// The `estimators:` list of the scene's root mapping.
+std::vector<EstimatorSpec> read_estimators(const ConfigNode& root);
 std::vector<BunchJob> bunch_jobs(const Scene& scene);
 // The ray scene of one bunch of `scene`: the bunch, and its foliage when the scene has
 // a `foliage:` section (drawn from the bunch's seed, its own stream).

@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -84,6 +85,14 @@ class Registry {
     Product out = e.create(node, p);
     params = with_type(e.type, p);
     return out;
+  }
+  // The product of `type` with every parameter at its default (a type known in code).
+  Product make(const std::string& type) const {
+    for (const auto& e : entries_) {
+      nlohmann::ordered_json ignored;
+      if (e.type == type) return e.create(ConfigNode::load_string("{}", kind_ + " " + type), ignored);
+    }
+    throw std::logic_error("no " + kind_ + " '" + type + "' is registered");
   }
   // Every type with its summary and keys, for --help.
   std::string help(const std::string& indent = "  ") const {

@@ -2,7 +2,7 @@
 // --help with its default in range; a manifest's scene reads back as the same scene;
 // an unknown key, or one the chosen type or method does not read, fails with file:line
 // for every kind.
-#include "bench/scene.h"
+#include "bench/scene_file.h"
 #include "scene_error.h"
 
 #include <gtest/gtest.h>
@@ -216,9 +216,11 @@ TEST(KeyTables, AKeyTheChosenTypeOrMethodDoesNotReadFailsWithFileLine) {
        "registration: seed000_pca_icp"},
       {"registration method", scan + "pipeline:\n  icp:\n    max_iterations: 3\n", "pipeline.icp",
        "an ICP registration"},
-      {"protocol", scan + "pipeline:\n  rois: [auto_r]\n", "pipeline.rois", "registration: single_frame"},
-      {"protocol", scan + "pipeline:\n  registration: single_frame\n  min_points: 50\n", "pipeline.min_points",
-       "a registered cloud"},
+      {"protocol", scan + "pipeline:\n  rois: [auto_r]\n", "pipeline.rois", "protocol: single_frame"},
+      {"protocol", "protocol: single_frame\n" + scan + "pipeline:\n  min_points: 50\n", "pipeline.min_points",
+       "protocol: multi_view"},
+      {"protocol", "protocol: single_frame\n" + scan + "pipeline:\n  registration: plain_icp\n",
+       "pipeline.registration", "protocol: multi_view"},
       {"sensor", kHead + "sensor:\n  type: kinect_v2\n  edge_filter: false\n  edge_abs: 0.01\nrig:\n  type: turntable\n",
        "sensor.edge_abs", "edge_filter: true"},
       {"sensor", kHead + "sensor:\n  type: stereo_rgb\n  plain_colour: [0, 1, 0]\nrig:\n  type: turntable\n",

@@ -380,6 +380,7 @@ seed: 3
 bunches:
   - preset: table-red
     count: 2
+protocol: single_frame
 sensor:
   type: d435
 rig:
@@ -394,8 +395,6 @@ background:
 foliage:
   leaves: 20
 pipeline:
-  segmentation: none
-  registration: single_frame
   fine_tune: false
   view_filters:
     - type: pass_through

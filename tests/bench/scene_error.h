@@ -1,7 +1,7 @@
 // Test helper: the error a scene text gives when read as "scene.yaml" ("" if none).
 #pragma once
 
-#include "bench/scene.h"
+#include "bench/scene_file.h"
 
 #include <string>
 

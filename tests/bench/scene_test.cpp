@@ -1,4 +1,4 @@
-#include "bench/scene.h"
+#include "bench/scene_file.h"
 #include "bench/synth_run.h"
 
 #include <gtest/gtest.h>

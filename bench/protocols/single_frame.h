@@ -1,5 +1,6 @@
-// Seed 003's single-frame measurement (pipeline.registration: single_frame): every view
-// of a scan is measured alone, as the paper does with each RealSense frame.
+// The single_frame protocol (seed 003): every view of a scan is measured alone, as the
+// paper does with each RealSense frame. Named stages: scan (capture.h), then per frame
+// returns, view filters (the pass-through), ROIs, fine tuning, estimate.
 #pragma once
 
 #include "bench/case_result.h"
@@ -23,5 +24,7 @@ FrameReturns frame_returns(const OrganisedCloud& c);
 // and r.segmentation_precision / recall score the tuned automatic regions against the
 // labels.
 void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt, CaseResult& r);
+
+CaseResult run_single_frame(const Condition& condition, int condition_index, const BunchJob& job);
 
 }  // namespace grapebench

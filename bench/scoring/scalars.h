@@ -1,4 +1,4 @@
-// Scores of an estimator against the ground truth over a set of cases.
+// Scores of a scalar output (volume, a length) against the ground truth over a set of cases.
 #pragma once
 
 #include <string>

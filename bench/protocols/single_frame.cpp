@@ -1,8 +1,10 @@
-#include "bench/frame_run.h"
+#include "bench/protocols/single_frame.h"
 
 #include "algorithms/ndi_kmeans.h"
+#include "bench/protocols/capture.h"
 
 #include <algorithm>
+#include <chrono>
 
 namespace grapebench {
 
@@ -108,6 +110,22 @@ void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt,
   }
   r.segmentation_precision = auto_kept ? static_cast<double>(auto_bunch) / static_cast<double>(auto_kept) : 0;
   r.segmentation_recall = frame_bunch ? static_cast<double>(auto_bunch) / static_cast<double>(frame_bunch) : 0;
+}
+
+CaseResult run_single_frame(const Condition& condition, int condition_index, const BunchJob& job) {
+  CaseResult r = new_case(condition, condition_index, job);
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    const CaseCapture capture = capture_case(condition.scene, job);
+    r.scan_seconds = seconds_since(t0);
+    r.views = static_cast<int>(capture.scan.views.size());
+    measure_frames(condition.scene, capture.scan, capture.truth, r);
+    r.ok = true;
+  } catch (const std::exception& e) {
+    r.ok = false;
+    r.error = e.what();
+  }
+  return r;
 }
 
 }  // namespace grapebench

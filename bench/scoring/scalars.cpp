@@ -1,4 +1,4 @@
-#include "bench/scoring.h"
+#include "bench/scoring/scalars.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,17 @@
+#include "bench/protocols/capture.h"
+
+#include "synth/generate.h"
+#include "synth/rng.h"
+
+namespace grapebench {
+
+CaseCapture capture_case(const Scene& scene, const BunchJob& job) {
+  if (!scene.sensor || !scene.rig) throw InputError(scene.path + ": a run needs `sensor:` and `rig:` sections");
+  Bunch bunch = generate_bunch(job.params, job.seed);
+  GroundTruth truth = compute_ground_truth(bunch, job.params.density);
+  RayScene rays = scene_rays(scene, bunch, job.seed);
+  Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
+  return {std::move(bunch), std::move(truth), std::move(rays), std::move(scan)};
+}
+
+}  // namespace grapebench

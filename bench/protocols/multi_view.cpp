@@ -1,0 +1,225 @@
+#include "bench/protocols/multi_view.h"
+
+#include "algorithms/registration.h"
+#include "bench/case_result.h"
+#include "bench/protocols/capture.h"
+#include "sensors/visibility_hull.h"
+#include "synth/rng.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace grapebench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool is_bunch(std::uint8_t l) { return l <= static_cast<std::uint8_t>(Part::Peduncle); }
+
+// Stage "segment": per view, the returns on bunch parts (labels) or every return
+// (none), in the camera's frame, through the view filters, with their ground-truth
+// labels carried along so every step can be scored.
+struct SegmentedViews {
+  std::vector<RegistrationView> views;
+  std::vector<std::vector<std::uint8_t>> labels;  // per view, per point
+  std::size_t kept_bunch = 0;                     // bunch points kept over all views
+};
+
+SegmentedViews segment(const PipelineSpec& pl, const Scan& scan, CaseResult& r) {
+  SegmentedViews out;
+  std::size_t bunch_returns = 0, kept = 0;
+  for (const auto& v : scan.views) {
+    std::vector<Vec3> pts;
+    std::vector<std::uint8_t> labels;
+    for (std::size_t i = 0; i < v.cloud.size(); ++i) {
+      if (!v.cloud.valid[i]) continue;
+      bunch_returns += is_bunch(v.cloud.label[i]);
+      if (pl.segmentation == "labels" && !is_bunch(v.cloud.label[i])) continue;
+      pts.push_back(v.cloud.xyz[i].cast<double>());
+      labels.push_back(v.cloud.label[i]);
+    }
+    RegistrationView rv;
+    rv.points = to_point_cloud(pts);
+    apply_filters(pl.view_filters, rv.points, labels);
+    for (auto l : labels) out.kept_bunch += is_bunch(l);
+    kept += labels.size();
+    rv.name = v.rig.name;
+    rv.bottom = v.rig.name == "bottom";
+    out.views.push_back(std::move(rv));
+    out.labels.push_back(std::move(labels));
+  }
+  r.segmentation_precision = kept ? static_cast<double>(out.kept_bunch) / static_cast<double>(kept) : 0;
+  r.segmentation_recall = bunch_returns ? static_cast<double>(out.kept_bunch) / static_cast<double>(bunch_returns) : 0;
+  return out;
+}
+
+Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(angle_rad, Vec3::UnitZ()).toRotationMatrix();
+  t.translation() = centre - t.linear() * centre;
+  return t;
+}
+
+// Stage "register": each view's pose (camera to the first view's world, or the
+// world itself with true poses), and the pose errors against the truth in `r`.
+std::vector<Eigen::Isometry3d> register_views(const PipelineSpec& pl, const Scan& scan, const GroundTruth& gt,
+                                              const BunchJob& job, std::vector<RegistrationView>& views,
+                                              CaseResult& r) {
+  std::vector<Eigen::Isometry3d> poses(views.size());
+  if (pl.registration == "true_poses") {
+    for (std::size_t k = 0; k < views.size(); ++k) poses[k] = scan.views[k].rig.pose;
+    return poses;
+  }
+  for (const auto& v : views) {
+    if (v.points.rows() < 10) {
+      throw InputError("view " + v.name + " has " + std::to_string(v.points.rows()) +
+                       " bunch points; registration needs at least 10 in every view");
+    }
+  }
+  const Eigen::Isometry3d t0_inv = scan.views.front().rig.pose.inverse();
+  RegistrationResult reg;
+  if (pl.registration == "seed000_pca_icp") {
+    reg = register_seed000(views, pl.icp, pl.group_size);
+  } else if (pl.registration == "plain_icp") {
+    reg = register_plain_icp(views, pl.icp);
+  } else {
+    // Known turntable angles about a calibrated axis; an optional seeded angle error
+    // stands for the turntable's positioning error.
+    const Vec3 centre = 0.5 * (gt.bbox_min + gt.bbox_max);
+    Rng rng(derive_seed(job.seed, 0xa11e));
+    for (std::size_t k = 1; k < views.size(); ++k) {
+      const double err = pl.angle_error_sd_deg * rng.normal() * M_PI / 180;
+      views[k].nominal = t0_inv * rotation_about_vertical(centre, err) * scan.views[k].rig.pose;
+    }
+    reg = register_known_angle(views, t0_inv.linear() * Vec3::UnitZ(), pl.icp, pl.bottom_band);
+  }
+  double rsum = 0, tsum = 0;
+  for (std::size_t k = 1; k < views.size(); ++k) {
+    const Eigen::Isometry3d truth = t0_inv * scan.views[k].rig.pose;
+    const double re = rotation_error_deg(reg.poses[k], truth);
+    const double te = centroid_displacement(reg.poses[k], truth, views[k].points) * 1e3;
+    rsum += re;
+    tsum += te;
+    r.rotation_error_max_deg = std::max(r.rotation_error_max_deg, re);
+    r.translation_error_max_mm = std::max(r.translation_error_max_mm, te);
+  }
+  if (views.size() > 1) {
+    r.rotation_error_mean_deg = rsum / static_cast<double>(views.size() - 1);
+    r.translation_error_mean_mm = tsum / static_cast<double>(views.size() - 1);
+  }
+  return reg.poses;
+}
+
+// Stage "merge": every view under its pose, in view order, each point with its label
+// and its view (a view's points are in its camera's frame, so the pose carries the
+// camera centre to poses[k].translation()).
+struct MergedCloud {
+  PointCloud points;
+  std::vector<std::pair<std::uint8_t, std::size_t>> label_view;  // per point
+};
+
+MergedCloud merge(const SegmentedViews& s, const std::vector<Eigen::Isometry3d>& poses) {
+  std::vector<Vec3> pts;
+  MergedCloud m;
+  for (std::size_t k = 0; k < s.views.size(); ++k) {
+    const PointCloud& p = s.views[k].points;
+    for (Eigen::Index i = 0; i < p.rows(); ++i) {
+      pts.push_back(poses[k] * p.row(i).transpose());
+      m.label_view.emplace_back(s.labels[k][static_cast<std::size_t>(i)], k);
+    }
+  }
+  m.points = to_point_cloud(pts);
+  return m;
+}
+
+// Stage "filter": the cloud filters (MLS, stalk removal, downsampling...) on the
+// registered cloud, scored by the labels they keep; returns each point's camera centre.
+PointCloud filter(const PipelineSpec& pl, const std::vector<Eigen::Isometry3d>& poses, std::size_t kept_bunch,
+                  MergedCloud& m, CaseResult& r) {
+  const auto count = [&](auto pred) {
+    return static_cast<double>(
+        std::count_if(m.label_view.begin(), m.label_view.end(), [&](const auto& lv) { return pred(lv.first); }));
+  };
+  const auto peduncle = [](std::uint8_t l) { return l == static_cast<std::uint8_t>(Part::Peduncle); };
+  const double peduncle_before = count(peduncle), body_before = static_cast<double>(kept_bunch) - peduncle_before;
+  apply_filters(pl.cloud_filters, m.points, m.label_view);
+  PointCloud viewpoints(m.points.rows(), 3);
+  for (std::size_t i = 0; i < m.label_view.size(); ++i) {
+    viewpoints.row(static_cast<Eigen::Index>(i)) = poses[m.label_view[i].second].translation().transpose();
+  }
+  if (!pl.cloud_filters.empty()) {
+    r.peduncle_kept = peduncle_before > 0 ? count(peduncle) / peduncle_before : 0;
+    r.body_kept = body_before > 0 ? (count(is_bunch) - count(peduncle)) / body_before : 0;
+  }
+  return viewpoints;
+}
+
+// The rig's visibility hull as a scored volume row: the floor of any estimator that
+// invents no geometry (pipeline.visibility_hull).
+EstimateRow visibility_floor(const Scene& scene, const CaseCapture& c) {
+  EstimateRow row;
+  row.estimator = row.type = "visibility_hull";
+  row.quantity = quantity_name(Quantity::Volume);
+  std::vector<Camera> cameras;
+  for (const auto& v : c.scan.views) cameras.push_back(v.camera);
+  const auto t0 = Clock::now();
+  row.truth = c.truth.volume.solid;
+  row.estimate = visibility_hull(c.rays, cameras, {scene.pipeline.visibility_hull, 0.003}).volume;
+  row.seconds = seconds_since(t0);
+  row.ok = row.watertight = true;
+  return row;
+}
+
+}  // namespace
+
+CaseResult run_multi_view(const Condition& condition, int condition_index, const BunchJob& job) {
+  const Scene& scene = condition.scene;
+  const PipelineSpec& pl = scene.pipeline;
+  CaseResult r = new_case(condition, condition_index, job);
+  PointCloud cloud, viewpoints;  // the bunch cloud and, per point, its camera centre
+  GroundTruth truth;
+  EstimateRow floor;
+  floor.estimator = floor.type = "visibility_hull";
+  floor.quantity = quantity_name(Quantity::Volume);
+  floor.error = "not measured: the case failed first";
+  try {
+    auto t0 = Clock::now();
+    const CaseCapture capture = capture_case(scene, job);
+    truth = capture.truth;
+    r.scan_seconds = seconds_since(t0);
+    r.views = static_cast<int>(capture.scan.views.size());
+    if (pl.visibility_hull > 0) floor = visibility_floor(scene, capture);
+
+    t0 = Clock::now();
+    SegmentedViews segmented = segment(pl, capture.scan, r);
+    r.segmentation_seconds = seconds_since(t0);
+
+    t0 = Clock::now();
+    const auto poses = register_views(pl, capture.scan, truth, job, segmented.views, r);
+    MergedCloud merged = merge(segmented, poses);
+    r.registration_seconds = seconds_since(t0);
+
+    t0 = Clock::now();
+    viewpoints = filter(pl, poses, segmented.kept_bunch, merged, r);
+    cloud = std::move(merged.points);
+    r.filter_seconds = seconds_since(t0);
+    r.points = static_cast<std::size_t>(cloud.rows());
+    if (static_cast<double>(cloud.rows()) < pl.min_points) {
+      throw InputError("only " + std::to_string(cloud.rows()) + " bunch points (pipeline.min_points " +
+                       std::to_string(static_cast<long long>(pl.min_points)) + ")");
+    }
+    r.ok = true;
+  } catch (const std::exception& e) {
+    r.ok = false;
+    r.error = e.what();
+  }
+  // Stage "estimate": every estimator on the registered cloud (failed rows when it
+  // could not be made), then the rig's floor.
+  r.rows = run_estimators(scene.estimators, cloud, viewpoints, truth, r.ok ? "" : "no cloud: " + r.error);
+  if (pl.visibility_hull > 0) r.rows.push_back(floor);
+  return r;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,34 @@
+#include "bench/protocols/registry.h"
+
+#include "bench/protocols/multi_view.h"
+#include "bench/protocols/single_frame.h"
+
+namespace grapebench {
+
+namespace {
+
+// Protocols read their keys in the scene's `pipeline:` section (pipeline_param_table
+// says which key each protocol reads), so their registry lines carry none.
+struct NoKeys {};
+
+RegistryEntry<ProtocolRun> protocol(std::string type, std::string summary, ProtocolRun run) {
+  return entry<ProtocolRun>(std::move(type), std::move(summary), ParamTable<NoKeys>(), NoKeys{},
+                            [run](const NoKeys&, const ConfigNode&) { return run; });
+}
+
+}  // namespace
+
+const Registry<ProtocolRun>& protocol_registry() {
+  static const Registry<ProtocolRun> registry(
+      "protocol",
+      {
+          protocol("multi_view",
+                   "scan, segment, register, merge, filter, estimate: one registered cloud per bunch (seeds 000, 002)",
+                   run_multi_view),
+          protocol("single_frame",
+                   "per frame: pass-through, ROIs, fine tuning, estimate; no registration (seed 003)", run_single_frame),
+      });
+  return registry;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,213 @@
+#include "bench/scene_file.h"
+
+#include "bench/protocols/registry.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace grapebench {
+
+namespace {
+
+// Values of one sweep axis: a list of numbers, or {from, to, step}.
+std::vector<double> sweep_values(const ConfigNode& sweep, const std::string& key) {
+  const YAML::Node v = sweep.yaml()[key];
+  if (v.IsSequence()) return sweep.get_real_list_any(key, 1, 10000, -1e300, 1e300);
+  if (v.IsMap()) {
+    const ConfigNode r = sweep.child(key);
+    const double from = r.get_real("from", 0, -1e300, 1e300), to = r.get_real("to", 0, -1e300, 1e300);
+    if (!r.has("from") || !r.has("to") || !r.has("step")) r.fail("", "a range needs from, to and step");
+    const double step = r.get_real("step", 1, 1e-300, 1e300);
+    const double count = std::floor((to - from) / step + 1e-9) + 1;
+    if (!(count >= 1 && count <= 10000)) r.fail("step", "gives " + std::to_string(count) + " values; allowed 1-10000");
+    std::vector<double> out;
+    for (int k = 0; k < static_cast<int>(count); ++k) out.push_back(from + k * step);
+    return out;
+  }
+  sweep.fail(key, "expected a list of numbers or {from, to, step}");
+}
+
+Scene read_scene(const ConfigNode& root, const std::string& path) {
+  Scene s;
+  s.path = path;
+  s.name = root.get_string("name", std::filesystem::path(path).stem().string());
+  if (!root.has("seed")) root.fail("seed", "missing: every scene names its seed (an unsigned integer)");
+  s.seed = root.get_seed("seed", 0);
+  s.protocol = root.get_choice("protocol", s.protocol, protocol_registry().types());
+  if (!root.has("bunches")) root.fail("bunches", "missing: a list of {preset, count, parameters...}");
+  for (const auto& node : root.children("bunches")) {
+    BunchGroup g;
+    g.preset = node.get_choice("preset", "table-red", preset_names());
+    g.count = static_cast<int>(node.get_int("count", 1, 1, 100000));
+    g.params = preset(g.preset);
+    read_bunch_params(node, g.params);
+    s.groups.push_back(std::move(g));
+  }
+  if (s.groups.empty()) root.fail("bunches", "the list is empty");
+  if (root.has("sensor")) s.sensor = make_sensor(root.child("sensor"));
+  if (root.has("rig")) s.rig = make_rig(root.child("rig"));
+  if (root.has("background")) s.background = read_background(root.child("background"));
+  if (root.has("foliage")) s.foliage = read_foliage(root.child("foliage"));
+  if (s.rig && !s.sensor) root.fail("rig", "a rig needs a `sensor:` section");
+  s.pipeline = root.has("pipeline") ? read_pipeline(root.child("pipeline"), s.protocol) : pipeline_defaults(s.protocol);
+  if (root.has("estimators")) s.estimators = read_estimators(root);
+  if (!s.estimators.empty() && !s.rig) root.fail("estimators", "estimators need a `sensor:` and a `rig:` to scan with");
+  if (root.has("sweep")) {
+    const ConfigNode sweep = root.child("sweep");
+    for (const auto& kv : sweep.yaml()) {
+      const std::string key = kv.first.as<std::string>();
+      const YAML::Node list = kv.second;
+      bool named = list.IsSequence() && list.size() > 0;
+      for (std::size_t i = 0; named && i < list.size(); ++i) {
+        double ignored;
+        named = list[i].IsScalar() && !YAML::convert<double>::decode(list[i], ignored);
+      }
+      if (named) {
+        SweepAxis axis{key, {}, sweep.get_string_list(key, 1)};
+        for (std::size_t i = 0; i < axis.names.size(); ++i) axis.values.push_back(static_cast<double>(i));
+        s.sweep.push_back(std::move(axis));
+      } else {
+        s.sweep.push_back({key, sweep_values(sweep, key), {}});
+      }
+    }
+    if (s.sweep.empty()) root.fail("sweep", "the mapping is empty");
+  }
+  root.report_unused();
+  return s;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path) { return read_scene(ConfigNode::load_file(path), path); }
+
+namespace {
+
+// Points `root` at path (dotted, `name[i]` indexes a list, a list without an index
+// means every element) and sets the value there.
+void substitute(YAML::Node node, const std::string& path, const YAML::Node& value, const std::string& where) {
+  const auto dot = path.find('.');
+  std::string head = path.substr(0, dot);
+  const std::string rest = dot == std::string::npos ? "" : path.substr(dot + 1);
+  int index = -1;
+  if (const auto br = head.find('['); br != std::string::npos && head.back() == ']') {
+    try {
+      index = std::stoi(head.substr(br + 1, head.size() - br - 2));
+    } catch (const std::exception&) {
+      throw InputError(where + ": sweep key '" + path + "': bad index in '" + head + "'");
+    }
+    head = head.substr(0, br);
+  }
+  if (node.IsMap() && !node[head] && rest.empty() && index < 0) {
+    node[head] = value;  // a key left at its default; an unknown key is reported by the parser
+    return;
+  }
+  if (!node.IsMap() || !node[head]) {
+    throw InputError(where + ": sweep key '" + path + "': the scene has no '" + head +
+                     "' here; sweep a key the scene sets (write its nominal value in the scene)");
+  }
+  YAML::Node child = node[head];
+  std::vector<YAML::Node> targets;
+  if (child.IsSequence()) {
+    if (index >= static_cast<int>(child.size())) {
+      throw InputError(where + ": sweep key '" + path + "': index " + std::to_string(index) + " beyond the list of " +
+                       std::to_string(child.size()));
+    }
+    if (index >= 0) {
+      targets.push_back(child[static_cast<std::size_t>(index)]);
+    } else {
+      for (auto e : child) targets.push_back(e);
+    }
+  } else {
+    if (index >= 0) throw InputError(where + ": sweep key '" + path + "': '" + head + "' is not a list");
+    if (rest.empty()) {
+      node[head] = value;
+      return;
+    }
+    targets.push_back(child);
+  }
+  if (rest.empty()) throw InputError(where + ": sweep key '" + path + "': names a list, not a number");
+  for (auto& t : targets) substitute(t, rest, value, where);
+}
+
+std::string number_label(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+YAML::Node parse_yaml(const std::string& text, const std::string& name) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  }
+}
+
+// Each condition re-parses the text (YAML::Clone would drop the line marks).
+SceneSet expand(const std::string& text, const std::string& name) {
+  SceneSet set;
+  const YAML::Node root_yaml = parse_yaml(text, name);
+  set.base = read_scene(ConfigNode::from_yaml(root_yaml, name), name);
+  if (set.base.sweep.empty()) {
+    set.conditions.push_back({{}, "", set.base});
+    return set;
+  }
+  std::size_t total = 1;
+  for (const auto& a : set.base.sweep) total *= a.values.size();
+  if (total > 100000) throw InputError(name + ": the sweep has " + std::to_string(total) + " points; at most 100000");
+  const std::string sweep_line = ConfigNode::from_yaml(root_yaml, name).where("sweep");
+  for (std::size_t flat = 0; flat < total; ++flat) {
+    Condition c;
+    YAML::Node doc = parse_yaml(text, name);
+    doc.remove("sweep");
+    std::size_t rest = flat;
+    std::vector<std::size_t> idx(set.base.sweep.size());
+    for (std::size_t a = set.base.sweep.size(); a-- > 0;) {
+      idx[a] = rest % set.base.sweep[a].values.size();
+      rest /= set.base.sweep[a].values.size();
+    }
+    for (std::size_t a = 0; a < set.base.sweep.size(); ++a) {
+      const auto& axis = set.base.sweep[a];
+      const double v = axis.values[idx[a]];
+      c.values.push_back(v);
+      // A list element keeps its line, so a value out of range names where it was written.
+      const YAML::Node written = root_yaml["sweep"][axis.key];
+      YAML::Node value = written.IsSequence() ? written[idx[a]] : YAML::Node(v);
+      substitute(doc, axis.key, value, sweep_line);
+      const auto dot = axis.key.rfind('.');
+      c.label += (c.label.empty() ? "" : " ") + axis.key.substr(dot == std::string::npos ? 0 : dot + 1) + "=" +
+                 (axis.names.empty() ? number_label(v) : axis.names[idx[a]]);
+    }
+    try {
+      c.scene = read_scene(ConfigNode::from_yaml(doc, name), name);
+    } catch (const InputError& e) {
+      throw InputError(std::string(e.what()) + " (sweep point " + c.label + ")");
+    }
+    c.scene.sweep = set.base.sweep;
+    set.conditions.push_back(std::move(c));
+  }
+  return set;
+}
+
+}  // namespace
+
+SceneSet parse_scene_set(const std::string& text, const std::string& name) { return expand(text, name); }
+
+SceneSet load_scene_set(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scene_set(text.str(), path);
+}
+
+Scene parse_scene(const std::string& text, const std::string& name) {
+  return read_scene(ConfigNode::load_string(text, name), name);
+}
+
+}  // namespace grapebench
