@@ -1,9 +1,14 @@
-// What an estimator answers: the quantities it reports, as plain values in SI units.
+// The estimator interface: what a protocol hands an estimator (EstimatorInput) and
+// what the estimator answers (Estimate), by output kind: scalars, 3D points,
+// detections, per-point class scores.
 #pragma once
 
 #include "algorithms/point_cloud.h"
 
+#include <Eigen/Geometry>
+
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,17 +29,56 @@ const char* quantity_name(Quantity q);  // "volume", "height", ..., "perimeter_h
 // (name, quantity) for every quantity: the choices of a scene's `quantities` list.
 std::vector<std::pair<std::string, Quantity>> quantity_choices();
 
+// A circle in an image: centre and radius in pixels.
+struct Circle {
+  double x = 0, y = 0, r = 0;
+};
+// One detected object (seed 001's berries): its circle and a confidence.
+struct Detection {
+  Circle circle;
+  double score = 1;  // higher is more confident
+};
+
 // What one run of an estimator gives the harness.
 struct Estimate {
-  std::vector<std::pair<Quantity, double>> values;
+  std::vector<std::pair<Quantity, double>> values;  // scalars, SI units
+  std::vector<std::pair<std::string, Vec3>> points;  // named 3D points, m, the input's frame ("cutting_point")
+  std::vector<Detection> detections;                 // in the input image's pixels
+  Eigen::MatrixXd class_scores;                      // N x K per-point class scores (or 0 x 0)
   bool watertight = false;  // for volume methods with a mesh
   std::string notes;        // diagnostics (points used, iterations, residuals), into results.csv
 };
 
+// One view of a multi-view scan: its segmented, filtered returns in its camera frame
+// and the pose the registration found (camera to the cloud's frame).
+struct InputView {
+  std::string name;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  PointCloud points;  // M x 3, m
+};
+
+// The frame a single-frame estimator measures: which view, which ROI, the camera.
+struct InputFrame {
+  int index = -1;      // view of the scan
+  std::string roi;     // auto_r | auto_cm | manual_r | manual_cm
+  int region = -1;     // the region's index in the frame
+  int width = 0, height = 0;             // pixels
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels (rays through pixel centres u + 0.5)
+};
+
+// What a protocol hands an estimator: the cloud and, where the protocol knows them,
+// per-point attributes in the same row order (empty otherwise).
+struct EstimatorInput {
+  PointCloud points;                // N x 3, m
+  PointCloud viewpoints;            // N x 3, m: the centre of the camera that saw each point
+  PointCloud normals;               // N x 3, unit: the sensor's surface normal at each point
+  std::vector<Rgb8> colours;        // N: the sensor's colour of each point
+  std::vector<InputView> views;     // multi_view: the individual views
+  std::optional<InputFrame> frame;  // single_frame: the frame and its ROI
+};
+
 // An estimator with its parameters bound (parsed and range-checked when the scene is
-// read, so a bad parameter fails before any work starts). It gets the bunch's cloud
-// (N x 3, m) and, one row per point in the same frame, the centre of the camera that
-// saw the point (N x 3, m; empty where the pipeline does not know it).
-using BoundEstimator = std::function<Estimate(const PointCloud& registered_bunch, const PointCloud& viewpoints)>;
+// read, so a bad parameter fails before any work starts).
+using BoundEstimator = std::function<Estimate(const EstimatorInput& input)>;
 
 }  // namespace grapebench

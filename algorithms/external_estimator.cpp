@@ -1,8 +1,10 @@
 #include "algorithms/external_estimator.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -23,28 +26,48 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kProtocol = "grapebench-estimator-1";
+using Clock = std::chrono::steady_clock;
 
-std::string ply_bytes(const PointCloud& c) {
+constexpr std::size_t kMaxAnswerBytes = std::size_t{256} << 20;  // an answer line or file
+constexpr double kMaxQuantity = 1000;                            // m3 or m: no bunch is larger
+
+// Binary little-endian PLY: x y z, then the attributes the input has (doubles, and
+// uchar colours). x86-64 is little-endian.
+std::string ply_bytes(const PointCloud& c, const PointCloud* normals, const PointCloud* viewpoints,
+                      const std::vector<Rgb8>* colours) {
   std::ostringstream s;
-  s << "ply\nformat binary_little_endian 1.0\ncomment grapebench registered bunch, metres\nelement vertex " << c.rows()
-    << "\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+  s << "ply\nformat binary_little_endian 1.0\ncomment grapebench, metres\nelement vertex " << c.rows()
+    << "\nproperty double x\nproperty double y\nproperty double z\n";
+  if (normals) s << "property double nx\nproperty double ny\nproperty double nz\n";
+  if (viewpoints) s << "property double vx\nproperty double vy\nproperty double vz\n";
+  if (colours) s << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  s << "end_header\n";
   std::string out = s.str();
-  for (Eigen::Index i = 0; i < c.rows(); ++i) {
+  const auto put = [&](const PointCloud& m, Eigen::Index i) {
     for (int k = 0; k < 3; ++k) {
-      const double v = c(i, k);
-      out.append(reinterpret_cast<const char*>(&v), sizeof v);  // x86-64 is little-endian
+      const double v = m(i, k);
+      out.append(reinterpret_cast<const char*>(&v), sizeof v);
     }
+  };
+  for (Eigen::Index i = 0; i < c.rows(); ++i) {
+    put(c, i);
+    if (normals) put(*normals, i);
+    if (viewpoints) put(*viewpoints, i);
+    if (colours) out.append(reinterpret_cast<const char*>((*colours)[static_cast<std::size_t>(i)].data()), 3);
   }
   return out;
 }
 
+// The last n bytes of a file, read from there (a program may write gigabytes).
 std::string tail_of(const fs::path& p, std::size_t n) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  std::string t = s.str();
-  if (t.size() > n) t = "..." + t.substr(t.size() - n);
+  std::ifstream in(p, std::ios::binary | std::ios::ate);
+  if (!in) return {};
+  const std::streamoff size = in.tellg();
+  const std::streamoff from = size > static_cast<std::streamoff>(n) ? size - static_cast<std::streamoff>(n) : 0;
+  in.seekg(from);
+  std::string t(static_cast<std::size_t>(size - from), '\0');
+  in.read(t.data(), static_cast<std::streamsize>(t.size()));
+  if (from > 0) t = "..." + t;
   while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
   return t;
 }
@@ -64,79 +87,330 @@ struct TempDir {
   }
 };
 
-}  // namespace
+nlohmann::ordered_json matrix_json(const Eigen::Isometry3d& t) {
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  const Eigen::Matrix4d m = t.matrix();
+  for (int r = 0; r < 4; ++r) a.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+  return a;
+}
 
-Estimate external_estimate(const PointCloud& cloud, const ExternalParams& p) {
-  if (p.command.empty()) throw InputError("external estimator: empty command");
-  require_points(cloud, 1, "external estimator");
-  const TempDir dir;
-  {
-    std::ofstream(dir.path / "cloud.ply", std::ios::binary) << ply_bytes(cloud);
-    nlohmann::ordered_json req;
-    req["protocol"] = kProtocol;
-    req["cloud"] = (dir.path / "cloud.ply").string();
-    req["points"] = cloud.rows();
-    req["units"] = "m";
-    nlohmann::ordered_json q = nlohmann::ordered_json::array();
-    for (Quantity x : p.quantities) q.push_back(quantity_name(x));
-    req["quantities"] = q;
-    req["answer"] = (dir.path / "answer.json").string();
-    req["params"] = p.params;
-    std::ofstream(dir.path / "request.json", std::ios::binary) << req.dump(1) << "\n";
+// Writes the request's files into `dir` and returns the request.
+nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& in, const ExternalParams& p) {
+  const PointCloud& c = in.points;
+  const auto n = c.rows();
+  const bool v2 = p.version == 2;
+  const bool normals = v2 && in.normals.rows() == n && n > 0, viewpoints = v2 && in.viewpoints.rows() == n && n > 0;
+  const bool colours = v2 && static_cast<Eigen::Index>(in.colours.size()) == n && n > 0;
+  std::ofstream(dir / "cloud.ply", std::ios::binary) << ply_bytes(
+      c, normals ? &in.normals : nullptr, viewpoints ? &in.viewpoints : nullptr, colours ? &in.colours : nullptr);
+  nlohmann::ordered_json req;
+  req["protocol"] = v2 ? "grapebench-estimator-2" : "grapebench-estimator-1";
+  if (v2) req["kind"] = in.frame ? "single_frame" : !in.views.empty() ? "multi_view" : "cloud";
+  req["cloud"] = (dir / "cloud.ply").string();
+  req["points"] = n;
+  req["units"] = "m";
+  nlohmann::ordered_json q = nlohmann::ordered_json::array();
+  for (Quantity x : p.quantities) q.push_back(quantity_name(x));
+  req["quantities"] = q;
+  if (!p.persistent) req["answer"] = (dir / "answer.json").string();
+  req["params"] = p.params;
+  if (!v2) return req;
+  nlohmann::ordered_json attributes = nlohmann::ordered_json::array();
+  if (normals) attributes.push_back("normals");
+  if (viewpoints) attributes.push_back("viewpoints");
+  if (colours) attributes.push_back("colours");
+  req["attributes"] = attributes;
+  nlohmann::ordered_json views = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < in.views.size(); ++k) {
+    const fs::path file = dir / ("view_" + std::to_string(k) + ".ply");
+    std::ofstream(file, std::ios::binary) << ply_bytes(in.views[k].points, nullptr, nullptr, nullptr);
+    views.push_back({{"name", in.views[k].name},
+                     {"pose", matrix_json(in.views[k].pose)},
+                     {"cloud", file.string()},
+                     {"points", in.views[k].points.rows()}});
   }
-  std::vector<std::string> args = p.command;
-  args.push_back((dir.path / "request.json").string());
+  req["views"] = views;
+  if (in.frame) {
+    const InputFrame& f = *in.frame;
+    req["frame"] = {{"index", f.index}, {"roi", f.roi}, {"region", f.region}, {"width", f.width}, {"height", f.height},
+                    {"fx", f.fx},       {"fy", f.fy},   {"cx", f.cx},         {"cy", f.cy}};
+  }
+  return req;
+}
+
+[[noreturn]] void fail(const ExternalParams& p, const std::string& why) {
+  throw InputError("external estimator '" + p.command[0] + "': " + why);
+}
+
+// posix_spawnp of `args` in a process group of its own, with the given fd actions.
+pid_t spawn(const ExternalParams& p, std::vector<std::string> args, posix_spawn_file_actions_t& fa) {
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, argv[0], &fa, &attr, argv.data(), environ);
+  posix_spawnattr_destroy(&attr);
+  if (rc != 0) fail(p, std::string("cannot start: ") + std::strerror(rc));
+  return pid;
+}
+
+void kill_group(pid_t pid) {
+  kill(-pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+}
+
+// Per-request mode: the program gets the request file's path and writes answer.json.
+nlohmann::json run_once(const fs::path& dir, const ExternalParams& p) {
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
-  const std::string out_path = (dir.path / "stdout.txt").string(), err_path = (dir.path / "stderr.txt").string();
+  const std::string out_path = (dir / "stdout.txt").string(), err_path = (dir / "stderr.txt").string();
   posix_spawn_file_actions_addopen(&fa, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_addopen(&fa, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  std::vector<std::string> args = p.command;
+  args.push_back((dir / "request.json").string());
+  const pid_t pid = spawn(p, args, fa);
   posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) throw InputError("external estimator: cannot start '" + p.command[0] + "': " + std::strerror(rc));
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   int status = 0;
   for (;;) {
     const pid_t w = waitpid(pid, &status, WNOHANG);
     if (w == pid) break;
-    if (w < 0) throw InputError("external estimator: waitpid failed: " + std::string(std::strerror(errno)));
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > p.timeout) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      throw InputError("external estimator '" + p.command[0] + "': killed after the timeout of " +
-                       std::to_string(p.timeout) + " s");
+    if (w < 0) fail(p, "waitpid failed: " + std::string(std::strerror(errno)));
+    if (std::chrono::duration<double>(Clock::now() - t0).count() > p.timeout) {
+      kill_group(pid);
+      fail(p, "killed after the timeout of " + std::to_string(p.timeout) + " s");
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
+  kill(-pid, SIGKILL);  // nothing of the program outlives its answer
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     const std::string why = WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
                                               : "signal " + std::to_string(WTERMSIG(status));
-    throw InputError("external estimator '" + p.command[0] + "' failed (" + why + "): " + tail_of(err_path, 400));
+    fail(p, "failed (" + why + "): " + tail_of(err_path, 400));
   }
-  std::ifstream in(dir.path / "answer.json", std::ios::binary);
-  if (!in) throw InputError("external estimator '" + p.command[0] + "' wrote no answer.json");
-  nlohmann::json a;
+  const fs::path answer = dir / "answer.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(answer, ec)) fail(p, "wrote no answer.json");
+  if (fs::file_size(answer, ec) > kMaxAnswerBytes) fail(p, "answer.json is larger than 256 MiB");
+  std::ifstream in(answer, std::ios::binary);
   try {
-    a = nlohmann::json::parse(in);
+    return nlohmann::json::parse(in);
   } catch (const std::exception& e) {
-    throw InputError("external estimator '" + p.command[0] + "': answer.json is not JSON: " + e.what());
+    fail(p, std::string("answer.json is not JSON: ") + e.what());
   }
+}
+
+}  // namespace
+
+// A pool of long-lived programs: each answers one request at a time; a request takes
+// an idle one or starts another, so parallel cases never share a process.
+class PersistentPrograms {
+ public:
+  explicit PersistentPrograms(ExternalParams p) : p_(std::move(p)) { p_.programs.reset(); }
+  ~PersistentPrograms() {
+    for (auto& proc : idle_) {
+      shutdown(proc->fd, SHUT_WR);  // end of stdin: a well-behaved program exits
+      const auto t0 = Clock::now();
+      int status = 0;
+      while (waitpid(proc->pid, &status, WNOHANG) == 0 &&
+             std::chrono::duration<double>(Clock::now() - t0).count() < 2) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+      kill_group(proc->pid);
+      close(proc->fd);
+    }
+  }
+  PersistentPrograms(const PersistentPrograms&) = delete;
+  PersistentPrograms& operator=(const PersistentPrograms&) = delete;
+
+  nlohmann::json ask(const nlohmann::ordered_json& request) {
+    std::unique_ptr<Process> proc = take();
+    const auto t0 = Clock::now();
+    try {
+      send_line(*proc, request.dump() + "\n", t0);
+      nlohmann::json answer = nlohmann::json::parse(read_line(*proc, t0));
+      give_back(std::move(proc));
+      return answer;
+    } catch (const nlohmann::json::exception& e) {
+      discard(*proc);
+      fail(p_, std::string("its answer line is not JSON: ") + e.what());
+    } catch (...) {
+      discard(*proc);
+      throw;
+    }
+  }
+
+ private:
+  struct Process {
+    pid_t pid = 0;
+    int fd = -1;                   // our end of the socket that is the program's stdin and stdout
+    std::string buffer;            // bytes read past the last answer line
+    std::unique_ptr<TempDir> dir;  // its stderr
+  };
+
+  std::unique_ptr<Process> take() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!idle_.empty()) {
+        auto proc = std::move(idle_.back());
+        idle_.pop_back();
+        return proc;
+      }
+    }
+    auto proc = std::make_unique<Process>();
+    proc->dir = std::make_unique<TempDir>();
+    int sv[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) fail(p_, "socketpair failed");
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_adddup2(&fa, sv[1], 0);
+    posix_spawn_file_actions_adddup2(&fa, sv[1], 1);
+    const std::string err = (proc->dir->path / "stderr.txt").string();
+    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    try {
+      proc->pid = spawn(p_, p_.command, fa);
+    } catch (...) {
+      posix_spawn_file_actions_destroy(&fa);
+      close(sv[0]);
+      close(sv[1]);
+      throw;
+    }
+    posix_spawn_file_actions_destroy(&fa);
+    close(sv[1]);
+    proc->fd = sv[0];
+    return proc;
+  }
+  void give_back(std::unique_ptr<Process> proc) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    idle_.push_back(std::move(proc));
+  }
+  void discard(Process& proc) {
+    kill_group(proc.pid);
+    close(proc.fd);
+  }
+  double left(Clock::time_point t0) const {
+    return p_.timeout - std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  // Waits for `events` on the socket within the request's time; fails on timeout (the
+  // caller discards the process on any failure).
+  void wait_for(Process& proc, short events, Clock::time_point t0) {
+    pollfd pfd{proc.fd, events, 0};
+    const double s = left(t0);
+    if (s <= 0 || poll(&pfd, 1, static_cast<int>(std::ceil(s * 1000))) == 0) {
+      fail(p_, "killed after the timeout of " + std::to_string(p_.timeout) + " s (persistent)");
+    }
+  }
+  void send_line(Process& proc, const std::string& line, Clock::time_point t0) {
+    for (std::size_t sent = 0; sent < line.size();) {
+      wait_for(proc, POLLOUT, t0);
+      const ssize_t k = ::send(proc.fd, line.data() + sent, line.size() - sent, MSG_NOSIGNAL);
+      if (k <= 0) fail(p_, "stopped reading requests: " + tail_of(proc.dir->path / "stderr.txt", 400));
+      sent += static_cast<std::size_t>(k);
+    }
+  }
+  std::string read_line(Process& proc, Clock::time_point t0) {
+    for (;;) {
+      const auto nl = proc.buffer.find('\n');
+      if (nl != std::string::npos) {
+        std::string line = proc.buffer.substr(0, nl);
+        proc.buffer.erase(0, nl + 1);
+        return line;
+      }
+      if (proc.buffer.size() > kMaxAnswerBytes) fail(p_, "an answer line longer than 256 MiB");
+      wait_for(proc, POLLIN, t0);
+      char chunk[65536];
+      const ssize_t k = ::read(proc.fd, chunk, sizeof chunk);
+      if (k <= 0) fail(p_, "exited before answering: " + tail_of(proc.dir->path / "stderr.txt", 400));
+      proc.buffer.append(chunk, static_cast<std::size_t>(k));
+    }
+  }
+
+  ExternalParams p_;
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<Process>> idle_;
+};
+
+std::shared_ptr<PersistentPrograms> start_persistent_programs(const ExternalParams& params) {
+  return std::make_shared<PersistentPrograms>(params);
+}
+
+Estimate parse_external_answer(const nlohmann::json& a, const ExternalParams& p, long points) {
+  if (!a.is_object()) fail(p, "the answer is not a JSON object");
+  if (a.contains("error"))
+    fail(p, "answered an error: " + (a["error"].is_string() ? a["error"].get<std::string>().substr(0, 400)
+                                                            : a["error"].dump().substr(0, 400)));
   Estimate e;
   for (Quantity q : p.quantities) {
     const auto it = a.find(quantity_name(q));
     if (it == a.end() || !it->is_number() || !std::isfinite(it->get<double>())) {
-      throw InputError("external estimator '" + p.command[0] + "': answer.json lacks a finite number '" +
-                       quantity_name(q) + "'");
+      fail(p, std::string("the answer lacks a finite number '") + quantity_name(q) + "'");
     }
-    e.values.emplace_back(q, it->get<double>());
+    const double v = it->get<double>();
+    if (!(v > 0 && v <= kMaxQuantity)) {
+      fail(p, std::string("'") + quantity_name(q) + "' = " + it->dump() + " is outside (0, 1000] (m3 or m)");
+    }
+    e.values.emplace_back(q, v);
   }
-  e.watertight = a.value("watertight", false);
-  e.notes = a.value("notes", "");
+  const auto finite_number = [](const nlohmann::json& x) { return x.is_number() && std::isfinite(x.get<double>()); };
+  if (p.version == 2 && a.contains("points")) {
+    if (!a["points"].is_object()) fail(p, "'points' must map names to [x, y, z]");
+    for (const auto& [name, v] : a["points"].items()) {
+      if (!v.is_array() || v.size() != 3 || !finite_number(v[0]) || !finite_number(v[1]) || !finite_number(v[2])) {
+        fail(p, "'points." + name + "' must be [x, y, z], finite, m");
+      }
+      e.points.emplace_back(name, Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()));
+    }
+  }
+  if (p.version == 2 && a.contains("detections")) {
+    if (!a["detections"].is_array()) fail(p, "'detections' must be a list of {x, y, r, score}");
+    for (const auto& d : a["detections"]) {
+      if (!d.is_object() || !finite_number(d.value("x", nlohmann::json())) ||
+          !finite_number(d.value("y", nlohmann::json())) || !finite_number(d.value("r", nlohmann::json())) ||
+          d["r"].get<double>() <= 0) {
+        fail(p, "each detection must be {x, y, r > 0, score}, finite, pixels");
+      }
+      const double score = d.contains("score") && finite_number(d["score"]) ? d["score"].get<double>() : 1.0;
+      e.detections.push_back({{d["x"].get<double>(), d["y"].get<double>(), d["r"].get<double>()}, score});
+    }
+  }
+  if (p.version == 2 && a.contains("class_scores")) {
+    const auto& s = a["class_scores"];
+    if (!s.is_array() || static_cast<long>(s.size()) != points || s.empty() || !s[0].is_array() || s[0].empty()) {
+      fail(p, "'class_scores' must hold one list of K scores per input point (" + std::to_string(points) + ")");
+    }
+    const auto k = static_cast<Eigen::Index>(s[0].size());
+    e.class_scores.resize(points, k);
+    for (Eigen::Index i = 0; i < points; ++i) {
+      const auto& row = s[static_cast<std::size_t>(i)];
+      if (!row.is_array() || static_cast<Eigen::Index>(row.size()) != k)
+        fail(p, "'class_scores' rows differ in length");
+      for (Eigen::Index j = 0; j < k; ++j) {
+        if (!finite_number(row[static_cast<std::size_t>(j)])) fail(p, "'class_scores' holds a non-finite score");
+        e.class_scores(i, j) = row[static_cast<std::size_t>(j)].get<double>();
+      }
+    }
+  }
+  e.watertight = a.contains("watertight") && a["watertight"].is_boolean() && a["watertight"].get<bool>();
+  if (a.contains("notes") && a["notes"].is_string()) e.notes = a["notes"].get<std::string>().substr(0, 400);
   return e;
+}
+
+Estimate external_estimate(const EstimatorInput& input, const ExternalParams& p) {
+  if (p.command.empty()) throw InputError("external estimator: empty command");
+  require_points(input.points, 1, "external estimator");
+  const TempDir dir;
+  const nlohmann::ordered_json req = write_request(dir.path, input, p);
+  if (p.persistent) {
+    if (!p.programs) throw std::logic_error("external estimator: persistent mode without its programs");
+    return parse_external_answer(p.programs->ask(req), p, input.points.rows());
+  }
+  std::ofstream(dir.path / "request.json", std::ios::binary) << req.dump(1) << "\n";
+  return parse_external_answer(run_once(dir.path, p), p, input.points.rows());
 }
 
 const ParamTable<ExternalParams>& external_param_table() {
@@ -146,7 +420,11 @@ const ParamTable<ExternalParams>& external_param_table() {
           .strings("command", &P::command, 1, "the program and its arguments, e.g. [python3, \"{scene_dir}/my.py\"]")
           .required()
           .choice_list("quantities", &P::quantities, quantity_choices(), 1, "what the program's answer holds")
-          .real("timeout", "s", &P::timeout, 0.1, 86400, "the program is killed after it");
+          .real("timeout", "s", &P::timeout, 0.1, 86400, "the whole exchange of one request; then the group is killed")
+          .integer("version", "-", &P::version, 1, 2,
+                   "protocol version: 1 (x y z, scalars) or 2 (every attribute and output kind)")
+          .boolean("persistent", &P::persistent, "one process answers many requests as JSON lines on stdin/stdout")
+          .when("version: 2", [](const P& p) { return p.version == 2; });
   return table;
 }
 

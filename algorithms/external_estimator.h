@@ -1,6 +1,7 @@
-// Bring your own estimator: an external program that reads a cloud and answers in
-// JSON (the protocol is in algorithms/README.md; an Open3D example is in
-// scripts/external/open3d_estimator.py).
+// Bring your own estimator: an external program that reads what the protocol hands
+// over and answers in JSON (the protocol is in algorithms/README.md and its JSON
+// Schema in docs/external-protocol.schema.json; a Python example with Open3D and numpy
+// is scripts/external/open3d_estimator.py).
 #pragma once
 
 #include "algorithms/estimate.h"
@@ -8,29 +9,52 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace grapebench {
 
+class PersistentPrograms;
+
 struct ExternalParams {
   // Program and arguments, run without a shell (execvp: argv[0] is looked up in PATH).
-  // "{scene_dir}" in an argument is replaced by the scene file's folder. The request
-  // file's path is appended as the last argument.
+  // "{scene_dir}" in an argument is replaced by the scene file's folder. Per case, the
+  // request file's path is appended as the last argument.
   std::vector<std::string> command;
   std::vector<Quantity> quantities{Quantity::Volume};  // what the answer must hold
-  double timeout = 300;  // s, [0.1, 86400]; the program is killed after it
+  double timeout = 300;  // s, [0.1, 86400], the whole exchange of one request; then the program's group is killed
+  // 1: grapebench-estimator-1 (x y z only, a scalar answer; the default, so programs
+  // written for it keep working); 2: grapebench-estimator-2 (every per-point attribute
+  // and the views or frame; every output kind).
+  int version = 1;
+  // Version 2 only. false: one process per request; true: one process answers many
+  // requests, a JSON line each on stdin, an answer line each on stdout (Python's
+  // start-up and imports paid once per run and thread, not per case).
+  bool persistent = false;
   nlohmann::ordered_json params = nlohmann::ordered_json::object();  // passed through to the program
+  // The running programs of persistent mode (set when the estimator is created).
+  std::shared_ptr<PersistentPrograms> programs;
 };
 const ParamTable<ExternalParams>& external_param_table();
 // Replaces every "{scene_dir}" in the command's arguments by `scene_dir` ("." when empty).
 void substitute_scene_dir(std::vector<std::string>& command, const std::string& scene_dir);
+// The process pool of persistent mode; its processes end when the last copy of the
+// returned pointer goes (stdin closed, then the group killed after 2 s).
+std::shared_ptr<PersistentPrograms> start_persistent_programs(const ExternalParams& params);
 
-// Writes `cloud.ply` (binary, x y z as doubles, metres) and `request.json` into a fresh
-// temporary folder, runs the program, and reads `answer.json`:
-//   {"volume": m3, "height": m, ..., "watertight": bool, "notes": "..."}.
-// Throws InputError when the program cannot be started, exits non-zero (with the
-// tail of its stderr), times out, or answers without a requested quantity.
-Estimate external_estimate(const PointCloud& cloud, const ExternalParams& params);
+// Writes the request's files into a fresh temporary folder, runs the program (or asks
+// a persistent one) and checks its answer:
+//   {"volume": m3, "height": m, ..., "points": {"name": [x, y, z]},
+//    "detections": [{"x": px, "y": px, "r": px, "score": s}], "class_scores": [[...] per point],
+//    "watertight": bool, "notes": "..."}, or {"error": "why"} to fail that request.
+// Every requested quantity must be a finite number in (0, 1000] (m3 or m). Throws
+// InputError when the program cannot be started, exits non-zero (with the tail of its
+// stderr), times out, or answers outside the protocol.
+Estimate external_estimate(const EstimatorInput& input, const ExternalParams& params);
+
+// The answer checked against the request (exposed for tests): `points` is the number
+// of input points (rows of class_scores).
+Estimate parse_external_answer(const nlohmann::json& answer, const ExternalParams& params, long points);
 
 }  // namespace grapebench

@@ -4,6 +4,7 @@
 // emptied cluster restarted at the point farthest from its centroid).
 #pragma once
 
+#include "algorithms/point_cloud.h"
 #include "synth/types.h"
 
 #include <array>
@@ -12,7 +13,6 @@
 
 namespace grapebench {
 
-using Rgb8 = std::array<std::uint8_t, 3>;
 
 // Seed 003 Eq. 1: N = (R-G)/(R+G), D = (R-B)/(R+B), I = (B-G)/(B+G), each in [-1, 1].
 // A ratio whose denominator is 0 (both channels black) has no contrast and is 0, so

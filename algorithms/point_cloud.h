@@ -6,10 +6,16 @@
 
 #include <Eigen/Core>
 
+#include <array>
+#include <cstdint>
+
 #include <string>
 #include <vector>
 
 namespace grapebench {
+
+// An 8-bit colour (sensor RGB).
+using Rgb8 = std::array<std::uint8_t, 3>;
 
 using PointCloud = Eigen::Matrix<double, Eigen::Dynamic, 3>;
 

@@ -33,8 +33,8 @@ RegistryEntry<EstimatorBinding> estimator(std::string type, std::string summary,
                                           const ParamTable<P>& table, Run run) {
   return entry<EstimatorBinding>(std::move(type), std::move(summary), table, P{},
                                  [quantities, run](const P& p, const ConfigNode&) {
-                                   return EstimatorBinding{quantities, [p, run](const PointCloud& c, const PointCloud& v) {
-                                                             return run(p, c, v);
+                                   return EstimatorBinding{quantities, [p, run](const EstimatorInput& in) {
+                                                             return run(p, in.points, in.viewpoints);
                                                            }};
                                  });
 }
@@ -55,8 +55,14 @@ Estimate volume_only(const VolumeEstimate& v) {
   return e;
 }
 
+Estimate scalars(std::vector<std::pair<Quantity, double>> values) {
+  Estimate e;
+  e.values = std::move(values);
+  return e;
+}
+
 Estimate size_pair(double a, double b) {
-  return Estimate{{{Quantity::SizeMajor, std::max(a, b)}, {Quantity::SizeMinor, std::min(a, b)}}, false, {}};
+  return scalars({{Quantity::SizeMajor, std::max(a, b)}, {Quantity::SizeMinor, std::min(a, b)}});
 }
 
 Estimate poisson(const PoissonParams& q, const PointCloud& c, const PointCloud& viewpoints) {
@@ -74,8 +80,9 @@ RegistryEntry<EstimatorBinding> external() {
       "external", "an external program through the JSON protocol (algorithms/README.md); set `quantities`",
       external_param_table(), ExternalParams{}, [](ExternalParams x, const ConfigNode& n) {
         substitute_scene_dir(x.command, std::filesystem::path(n.file()).parent_path().string());
+        if (x.persistent) x.programs = start_persistent_programs(x);
         return EstimatorBinding{x.quantities,
-                                [x](const PointCloud& c, const PointCloud&) { return external_estimate(c, x); }};
+                                [x](const EstimatorInput& in) { return external_estimate(in, x); }};
       });
 }
 
@@ -91,7 +98,7 @@ const Registry<EstimatorBinding>& estimator_registry() {
                     {Q::Height, Q::Length, Q::Width}, no_params(),
                     [](const NoParams&, const PointCloud& c, const PointCloud&) {
                       const PcaBox b = pca_box(c);
-                      return Estimate{{{Q::Height, b.height}, {Q::Length, b.length}, {Q::Width, b.width}}, false, {}};
+                      return scalars({{Q::Height, b.height}, {Q::Length, b.length}, {Q::Width, b.width}});
                     }),
           estimator("section_perimeters",
                     "perimeters of the three centre sections, Hobby spline, arc length (seed 002 Eqs. 10-12)",

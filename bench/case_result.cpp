@@ -64,8 +64,8 @@ CaseResult new_case(const Condition& condition, int condition_index, const Bunch
   return r;
 }
 
-std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
-                                        const PointCloud& viewpoints, const GroundTruth& gt, const std::string& cloud_error) {
+std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const EstimatorInput& input,
+                                        const GroundTruth& gt, const std::string& cloud_error) {
   std::vector<EstimateRow> rows;
   for (const auto& spec : specs) {
     Estimate est;
@@ -75,7 +75,7 @@ std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs,
       const HeapMeter meter;
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        est = spec.run(cloud, viewpoints);
+        est = spec.run(input);
       } catch (const std::exception& e) {
         error = e.what();
       }
@@ -91,7 +91,7 @@ std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs,
       row.seconds = secs;
       row.peak_heap_mb = heap_mb;
       row.error = error;
-      row.region_points = static_cast<std::size_t>(cloud.rows());
+      row.region_points = static_cast<std::size_t>(input.points.rows());
       if (error.empty()) {
         for (const auto& [qq, v] : est.values) {
           if (qq == q) {

@@ -78,11 +78,11 @@ void apply_filters(const std::vector<FilterSpec>& steps, PointCloud& cloud, std:
   }
 }
 
-// The rows of every estimator of `specs` on one cloud, timed, with their truths; when
-// `cloud_error` is set the cloud could not be made and every row fails with it.
-// viewpoints: per point, the centre of the camera that saw it (N x 3, the cloud's frame).
-std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const PointCloud& cloud,
-                                        const PointCloud& viewpoints, const GroundTruth& gt, const std::string& cloud_error);
+// The rows of every estimator of `specs` on what the protocol hands over, timed, with
+// their truths; when `cloud_error` is set the cloud could not be made and every row
+// fails with it.
+std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const EstimatorInput& input,
+                                        const GroundTruth& gt, const std::string& cloud_error);
 
 // A case's identity (condition, bunch, preset, seed, key), before any stage ran.
 CaseResult new_case(const Condition& condition, int condition_index, const BunchJob& job);

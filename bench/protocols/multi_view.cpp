@@ -18,37 +18,45 @@ using Clock = std::chrono::steady_clock;
 
 bool is_bunch(std::uint8_t l) { return l <= static_cast<std::uint8_t>(Part::Peduncle); }
 
+// What each point carries through the steps: its ground-truth label, and the view and
+// pixel it came from (for the sensor's colour and normal).
+struct PointTag {
+  std::uint8_t label = 0;
+  std::size_t view = 0, pixel = 0;
+};
+
 // Stage "segment": per view, the returns on bunch parts (labels) or every return
 // (none), in the camera's frame, through the view filters, with their ground-truth
 // labels carried along so every step can be scored.
 struct SegmentedViews {
   std::vector<RegistrationView> views;
-  std::vector<std::vector<std::uint8_t>> labels;  // per view, per point
-  std::size_t kept_bunch = 0;                     // bunch points kept over all views
+  std::vector<std::vector<PointTag>> tags;  // per view, per point
+  std::size_t kept_bunch = 0;               // bunch points kept over all views
 };
 
 SegmentedViews segment(const PipelineSpec& pl, const Scan& scan, CaseResult& r) {
   SegmentedViews out;
   std::size_t bunch_returns = 0, kept = 0;
-  for (const auto& v : scan.views) {
+  for (std::size_t k = 0; k < scan.views.size(); ++k) {
+    const ScanView& v = scan.views[k];
     std::vector<Vec3> pts;
-    std::vector<std::uint8_t> labels;
+    std::vector<PointTag> tags;
     for (std::size_t i = 0; i < v.cloud.size(); ++i) {
       if (!v.cloud.valid[i]) continue;
       bunch_returns += is_bunch(v.cloud.label[i]);
       if (pl.segmentation == "labels" && !is_bunch(v.cloud.label[i])) continue;
       pts.push_back(v.cloud.xyz[i].cast<double>());
-      labels.push_back(v.cloud.label[i]);
+      tags.push_back({v.cloud.label[i], k, i});
     }
     RegistrationView rv;
     rv.points = to_point_cloud(pts);
-    apply_filters(pl.view_filters, rv.points, labels);
-    for (auto l : labels) out.kept_bunch += is_bunch(l);
-    kept += labels.size();
+    apply_filters(pl.view_filters, rv.points, tags);
+    for (const auto& t : tags) out.kept_bunch += is_bunch(t.label);
+    kept += tags.size();
     rv.name = v.rig.name;
     rv.bottom = v.rig.name == "bottom";
     out.views.push_back(std::move(rv));
-    out.labels.push_back(std::move(labels));
+    out.tags.push_back(std::move(tags));
   }
   r.segmentation_precision = kept ? static_cast<double>(out.kept_bunch) / static_cast<double>(kept) : 0;
   r.segmentation_recall = bunch_returns ? static_cast<double>(out.kept_bunch) / static_cast<double>(bunch_returns) : 0;
@@ -117,7 +125,7 @@ std::vector<Eigen::Isometry3d> register_views(const PipelineSpec& pl, const Scan
 // camera centre to poses[k].translation()).
 struct MergedCloud {
   PointCloud points;
-  std::vector<std::pair<std::uint8_t, std::size_t>> label_view;  // per point
+  std::vector<PointTag> tags;  // per point
 };
 
 MergedCloud merge(const SegmentedViews& s, const std::vector<Eigen::Isometry3d>& poses) {
@@ -125,35 +133,50 @@ MergedCloud merge(const SegmentedViews& s, const std::vector<Eigen::Isometry3d>&
   MergedCloud m;
   for (std::size_t k = 0; k < s.views.size(); ++k) {
     const PointCloud& p = s.views[k].points;
-    for (Eigen::Index i = 0; i < p.rows(); ++i) {
-      pts.push_back(poses[k] * p.row(i).transpose());
-      m.label_view.emplace_back(s.labels[k][static_cast<std::size_t>(i)], k);
-    }
+    for (Eigen::Index i = 0; i < p.rows(); ++i) pts.push_back(poses[k] * p.row(i).transpose());
+    m.tags.insert(m.tags.end(), s.tags[k].begin(), s.tags[k].end());
   }
   m.points = to_point_cloud(pts);
   return m;
 }
 
 // Stage "filter": the cloud filters (MLS, stalk removal, downsampling...) on the
-// registered cloud, scored by the labels they keep; returns each point's camera centre.
-PointCloud filter(const PipelineSpec& pl, const std::vector<Eigen::Isometry3d>& poses, std::size_t kept_bunch,
-                  MergedCloud& m, CaseResult& r) {
+// registered cloud, scored by the labels they keep.
+void filter(const PipelineSpec& pl, std::size_t kept_bunch, MergedCloud& m, CaseResult& r) {
   const auto count = [&](auto pred) {
     return static_cast<double>(
-        std::count_if(m.label_view.begin(), m.label_view.end(), [&](const auto& lv) { return pred(lv.first); }));
+        std::count_if(m.tags.begin(), m.tags.end(), [&](const PointTag& t) { return pred(t.label); }));
   };
   const auto peduncle = [](std::uint8_t l) { return l == static_cast<std::uint8_t>(Part::Peduncle); };
   const double peduncle_before = count(peduncle), body_before = static_cast<double>(kept_bunch) - peduncle_before;
-  apply_filters(pl.cloud_filters, m.points, m.label_view);
-  PointCloud viewpoints(m.points.rows(), 3);
-  for (std::size_t i = 0; i < m.label_view.size(); ++i) {
-    viewpoints.row(static_cast<Eigen::Index>(i)) = poses[m.label_view[i].second].translation().transpose();
-  }
+  apply_filters(pl.cloud_filters, m.points, m.tags);
   if (!pl.cloud_filters.empty()) {
     r.peduncle_kept = peduncle_before > 0 ? count(peduncle) / peduncle_before : 0;
     r.body_kept = body_before > 0 ? (count(is_bunch) - count(peduncle)) / body_before : 0;
   }
-  return viewpoints;
+}
+
+// What the estimators get: the registered cloud, each point's camera centre, the
+// sensor's normal (turned into the cloud's frame) and colour, and the views.
+EstimatorInput estimator_input(MergedCloud& m, const Scan& scan, const std::vector<Eigen::Isometry3d>& poses,
+                               SegmentedViews& s) {
+  EstimatorInput in;
+  const auto n = static_cast<Eigen::Index>(m.tags.size());
+  in.viewpoints.resize(n, 3);
+  in.normals.resize(n, 3);
+  in.colours.resize(m.tags.size());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const PointTag& t = m.tags[static_cast<std::size_t>(i)];
+    const OrganisedCloud& c = scan.views[t.view].cloud;
+    in.viewpoints.row(i) = poses[t.view].translation().transpose();
+    in.normals.row(i) = (poses[t.view].linear() * c.normal[t.pixel].cast<double>()).transpose();
+    in.colours[static_cast<std::size_t>(i)] = c.rgb[t.pixel];
+  }
+  for (std::size_t k = 0; k < s.views.size(); ++k) {
+    in.views.push_back({s.views[k].name, poses[k], std::move(s.views[k].points)});
+  }
+  in.points = std::move(m.points);
+  return in;
 }
 
 // The rig's visibility hull as a scored volume row: the floor of any estimator that
@@ -178,7 +201,7 @@ CaseResult run_multi_view(const Condition& condition, int condition_index, const
   const Scene& scene = condition.scene;
   const PipelineSpec& pl = scene.pipeline;
   CaseResult r = new_case(condition, condition_index, job);
-  PointCloud cloud, viewpoints;  // the bunch cloud and, per point, its camera centre
+  EstimatorInput input;  // the bunch cloud with its per-point attributes and views
   GroundTruth truth;
   EstimateRow floor;
   floor.estimator = floor.type = "visibility_hull";
@@ -202,12 +225,12 @@ CaseResult run_multi_view(const Condition& condition, int condition_index, const
     r.registration_seconds = seconds_since(t0);
 
     t0 = Clock::now();
-    viewpoints = filter(pl, poses, segmented.kept_bunch, merged, r);
-    cloud = std::move(merged.points);
+    filter(pl, segmented.kept_bunch, merged, r);
+    input = estimator_input(merged, capture.scan, poses, segmented);
     r.filter_seconds = seconds_since(t0);
-    r.points = static_cast<std::size_t>(cloud.rows());
-    if (static_cast<double>(cloud.rows()) < pl.min_points) {
-      throw InputError("only " + std::to_string(cloud.rows()) + " bunch points (pipeline.min_points " +
+    r.points = static_cast<std::size_t>(input.points.rows());
+    if (static_cast<double>(input.points.rows()) < pl.min_points) {
+      throw InputError("only " + std::to_string(input.points.rows()) + " bunch points (pipeline.min_points " +
                        std::to_string(static_cast<long long>(pl.min_points)) + ")");
     }
     r.ok = true;
@@ -217,7 +240,7 @@ CaseResult run_multi_view(const Condition& condition, int condition_index, const
   }
   // Stage "estimate": every estimator on the registered cloud (failed rows when it
   // could not be made), then the rig's floor.
-  r.rows = run_estimators(scene.estimators, cloud, viewpoints, truth, r.ok ? "" : "no cloud: " + r.error);
+  r.rows = run_estimators(scene.estimators, input, truth, r.ok ? "" : "no cloud: " + r.error);
   if (pl.visibility_hull > 0) r.rows.push_back(floor);
   return r;
 }

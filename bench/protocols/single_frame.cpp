@@ -40,9 +40,63 @@ FrameReturns frame_returns(const OrganisedCloud& c) {
   return out;
 }
 
+namespace {
+
+// The rough regions of each kind asked for, numbered within the frame.
+struct Roi {
+  std::string kind;
+  int index;
+  Region region;
+};
+
+std::vector<Roi> frame_rois(const PipelineSpec& pl, const PointCloud& cloud, const std::vector<Rgb8>& rgb,
+                            const std::vector<std::uint8_t>& label) {
+  const auto wants = [&](const char* kind) { return std::find(pl.rois.begin(), pl.rois.end(), kind) != pl.rois.end(); };
+  std::vector<Roi> rois;
+  if (wants("auto_r") || wants("auto_cm")) {
+    const Seed003Detection det = detect_grape_regions(cloud, rgb, pl.roi);
+    for (std::size_t j = 0; j < det.regions.size(); ++j) {
+      if (wants("auto_r")) rois.push_back({"auto_r", static_cast<int>(j), det.regions[j]});
+      if (wants("auto_cm")) {
+        rois.push_back({"auto_cm", static_cast<int>(j), roi_from_centre_of_mass(cloud, det.regions[j], pl.roi.roi_radius)});
+      }
+    }
+  }
+  if (wants("manual_r") || wants("manual_cm")) {
+    const Region m = manual_region(label, pl.manual_min_berry_points);
+    if (!m.empty()) {
+      if (wants("manual_r")) rois.push_back({"manual_r", 0, m});
+      if (wants("manual_cm")) rois.push_back({"manual_cm", 0, roi_from_centre_of_mass(cloud, m, pl.roi.roi_radius)});
+    }
+  }
+  return rois;
+}
+
+// What the estimators get for one tuned region: its points in the camera's frame
+// (every viewpoint the origin), their sensor normals and colours, and the frame.
+EstimatorInput roi_input(const ScanView& view, int index, const Roi& roi, const Region& tuned, const PointCloud& cloud,
+                         const std::vector<std::size_t>& pixel) {
+  EstimatorInput in;
+  const auto n = static_cast<Eigen::Index>(tuned.size());
+  in.points.resize(n, 3);
+  in.normals.resize(n, 3);
+  in.viewpoints = PointCloud::Zero(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto row = tuned[static_cast<std::size_t>(i)];
+    const std::size_t px = pixel[static_cast<std::size_t>(row)];
+    in.points.row(i) = cloud.row(row);
+    in.normals.row(i) = view.cloud.normal[px].cast<double>().transpose();
+    in.colours.push_back(view.cloud.rgb[px]);
+  }
+  const Intrinsics& k = view.camera.K;
+  in.frame = InputFrame{index, roi.kind, roi.index, k.width, k.height, k.fx, k.fy, k.cx, k.cy};
+  return in;
+}
+
+}  // namespace
+
 void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt, CaseResult& r) {
   const PipelineSpec& pl = scene.pipeline;
-  const auto wants = [&](const char* kind) { return std::find(pl.rois.begin(), pl.rois.end(), kind) != pl.rois.end(); };
   std::size_t auto_kept = 0, auto_bunch = 0, frame_bunch = 0;
   r.points = 0;
   for (std::size_t k = 0; k < scan.views.size(); ++k) {
@@ -59,47 +113,17 @@ void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt,
       frame_bunch += on_bunch(label[i]);
     }
     r.points += pixel.size();
-
-    // The rough regions of each kind asked for, numbered within the frame.
-    struct Roi {
-      std::string kind;
-      int index;
-      Region region;
-    };
-    std::vector<Roi> rois;
-    if (wants("auto_r") || wants("auto_cm")) {
-      const Seed003Detection det = detect_grape_regions(cloud, rgb, pl.roi);
-      for (std::size_t j = 0; j < det.regions.size(); ++j) {
-        if (wants("auto_r")) rois.push_back({"auto_r", static_cast<int>(j), det.regions[j]});
-        if (wants("auto_cm")) {
-          rois.push_back({"auto_cm", static_cast<int>(j), roi_from_centre_of_mass(cloud, det.regions[j], pl.roi.roi_radius)});
-        }
-      }
-    }
-    if (wants("manual_r") || wants("manual_cm")) {
-      const Region m = manual_region(label, pl.manual_min_berry_points);
-      if (!m.empty()) {
-        if (wants("manual_r")) rois.push_back({"manual_r", 0, m});
-        if (wants("manual_cm")) rois.push_back({"manual_cm", 0, roi_from_centre_of_mass(cloud, m, pl.roi.roi_radius)});
-      }
-    }
-
-    for (const Roi& roi : rois) {
+    for (const Roi& roi : frame_rois(pl, cloud, rgb, label)) {
       const Region tuned = pl.fine_tune ? fine_tune_region(cloud, rgb, roi.region, pl.roi) : roi.region;
-      PointCloud sub(static_cast<Eigen::Index>(tuned.size()), 3);
       std::size_t bunch = 0;
-      for (std::size_t i = 0; i < tuned.size(); ++i) {
-        sub.row(static_cast<Eigen::Index>(i)) = cloud.row(tuned[i]);
-        bunch += on_bunch(label[static_cast<std::size_t>(tuned[i])]);
-      }
+      for (const auto row : tuned) bunch += on_bunch(label[static_cast<std::size_t>(row)]);
       if (roi.kind == "auto_r") {
         auto_kept += tuned.size();
         auto_bunch += bunch;
       }
       const std::string error = tuned.empty() ? "fine tuning found no grape-coloured cluster in the ROI" : "";
-      // The frame's points are in its camera's frame: every viewpoint is the origin.
-      const PointCloud at_camera = PointCloud::Zero(sub.rows(), 3);
-      for (EstimateRow row : run_estimators(scene.estimators, sub, at_camera, gt, error)) {
+      const EstimatorInput in = roi_input(scan.views[k], static_cast<int>(k), roi, tuned, cloud, pixel);
+      for (EstimateRow row : run_estimators(scene.estimators, in, gt, error)) {
         row.frame = static_cast<int>(k);
         row.roi = roi.kind;
         row.region = roi.index;

@@ -3,20 +3,12 @@
 // matching rule, and the centre and radius errors of the matched pairs.
 #pragma once
 
+#include "algorithms/estimate.h"
+
 #include <string>
 #include <vector>
 
 namespace grapebench {
-
-// A circle in the image: centre and radius in pixels.
-struct Circle {
-  double x = 0, y = 0, r = 0;
-};
-
-struct Detection {
-  Circle circle;
-  double score = 1;  // higher first in the matching
-};
 
 struct TruthObject {
   Circle circle;

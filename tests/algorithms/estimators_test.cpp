@@ -137,7 +137,9 @@ double estimate(const Case& k, const Shape& s) {
   for (Eigen::Index i = 0; k.jitter > 0 && i < c.rows(); ++i) {
     c.row(i) += k.jitter * Eigen::RowVector3d(rng.normal(), rng.normal(), rng.normal());
   }
-  const Estimate est = e.run(c, PointCloud(0, 3));
+  EstimatorInput input;
+  input.points = std::move(c);
+  const Estimate est = e.run(input);
   if (k.must_close && !est.watertight) throw std::runtime_error(k.label + " not closed: " + est.notes);
   for (const auto& [q, v] : est.values) {
     if (q == k.quantity) return v;

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -370,6 +372,137 @@ TEST(External, TheOpen3dExampleRunsThroughTheProtocol) {
   const std::string m = error_of(std::string(kScene) + "  - type: external\n    quantities: [mass]\n    command: [x]\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("'estimators[3].quantities': unknown value 'mass'; allowed: volume"), std::string::npos) << m;
+}
+
+// The rows of one estimator in results.csv: (case key, quantity) -> estimate, and
+// its notes.
+struct EstimatorRows {
+  std::map<std::string, double> estimate;
+  std::vector<std::string> notes;
+};
+EstimatorRows rows_of(const std::string& csv, const std::string& estimator) {
+  EstimatorRows out;
+  std::istringstream in(csv);
+  std::string line, header;
+  std::getline(in, header);
+  std::vector<std::string> names;
+  std::stringstream hs(header);
+  for (std::string f; std::getline(hs, f, ',');) names.push_back(f);
+  const auto col = [&](const std::string& n) {
+    return static_cast<std::size_t>(std::find(names.begin(), names.end(), n) - names.begin());
+  };
+  while (std::getline(in, line)) {
+    // Split on commas outside quotes.
+    std::vector<std::string> f(1);
+    bool quoted = false;
+    for (char ch : line) {
+      if (ch == '"') quoted = !quoted;
+      else if (ch == ',' && !quoted) f.emplace_back();
+      else f.back() += ch;
+    }
+    if (f[col("estimator")] != estimator) continue;
+    const std::string key = f[col("condition")] + "/" + f[col("bunch")] + "/" + f[col("frame")] + "/" +
+                            f[col("roi")] + "/" + f[col("region")] + "/" + f[col("quantity")];
+    out.estimate[key] = f[col("estimate")] == "NaN" ? std::nan("") : std::stod(f[col("estimate")]);
+    out.notes.push_back(f[col("notes")]);
+  }
+  return out;
+}
+
+// Two entries of the example program through protocol 2, per case and persistent.
+std::string v2_entries(const std::string& quantities, const std::string& method) {
+  const std::string script = std::string(GRAPEBENCH_SOURCE_DIR) + "/scripts/external/open3d_estimator.py";
+  std::string s;
+  for (const char* mode : {"per_case", "persistent"}) {
+    const bool persistent = std::string(mode) == "persistent";
+    s += std::string("  - type: external\n    name: v2_") + mode + "\n    version: 2\n" +
+         (persistent ? "    persistent: true\n" : "") + "    quantities: " + quantities +
+         "\n    command: [/usr/bin/python3, " + script + ", --method, " + method +
+         (persistent ? ", --persistent" : "") + "]\n";
+  }
+  return s;
+}
+
+void expect_same_rows(const EstimatorRows& a, const EstimatorRows& b, double rel, const std::string& what) {
+  ASSERT_FALSE(a.estimate.empty()) << what;
+  ASSERT_EQ(a.estimate.size(), b.estimate.size()) << what;
+  for (const auto& [key, v] : a.estimate) {
+    ASSERT_TRUE(b.estimate.count(key)) << what << " " << key;
+    const double w = b.estimate.at(key);
+    if (std::isnan(v) || std::isnan(w)) {
+      EXPECT_EQ(std::isnan(v), std::isnan(w)) << what << " " << key;
+      continue;
+    }
+    EXPECT_NEAR(v, w, rel * std::abs(w)) << what << " " << key;
+  }
+}
+
+// Protocol 2 on the multi_view protocol: the program gets the registered cloud with
+// normals, viewpoints and colours, and the views with their poses; its hull and
+// principal extents equal the built-ins' on the same points, per case and persistent.
+TEST(External, ProtocolTwoOnMultiViewPerCaseAndPersistent) {
+  const std::string yaml = std::string(kScene) + v2_entries("[volume, height, length, width]", "convex_hull");
+  const fs::path out = fresh_dir("external_v2_multi_view");
+  run_scene_set(parse_scene_set(yaml, "ext2.yaml"), quiet(out, 2));
+  const std::string csv = slurp(out / "results.csv");
+  const EstimatorRows per_case = rows_of(csv, "v2_per_case"), persistent = rows_of(csv, "v2_persistent");
+  expect_same_rows(per_case, persistent, 0, "persistent vs per case");
+  EstimatorRows builtin = rows_of(csv, "CH");
+  for (const auto& [k, v] : rows_of(csv, "pca_box").estimate) builtin.estimate[k] = v;
+  expect_same_rows(per_case, builtin, 1e-6, "Open3D/numpy vs CGAL hull and PCA box");
+  for (const auto& n : persistent.notes) {
+    EXPECT_NE(n.find("grapebench-estimator-2, multi_view, 4 views, normals+viewpoints+colours"), std::string::npos) << n;
+  }
+  const auto timings = nlohmann::json::parse(slurp(out / "timings.json"));
+  for (const auto& t : timings) {
+    std::printf("[external] multi_view %-14s median %.1f ms per case\n", t["estimator"].get<std::string>().c_str(),
+                t["median_s"].get<double>() * 1e3);
+  }
+}
+
+// Protocol 2 on the single_frame protocol: the program gets each ROI's points with
+// the frame (intrinsics, index, ROI kind); its principal extents equal pca_box's.
+TEST(External, ProtocolTwoOnSingleFramePerCaseAndPersistent) {
+  const std::string yaml = R"(name: frames2
+seed: 3
+bunches:
+  - preset: table-red
+    count: 2
+protocol: single_frame
+sensor:
+  type: d435
+rig:
+  type: robot_pass
+  frames: 2
+  spacing: 0.05
+background:
+  type: cloth
+pipeline:
+  rois: [manual_r, auto_r]
+  view_filters:
+    - type: pass_through
+      min: [-1, -1000, 0.3]
+      max: [1, 1000, 2.5]
+estimators:
+  - type: pca_box
+)" + v2_entries("[height, length, width]", "convex_hull");
+  const fs::path out = fresh_dir("external_v2_single_frame");
+  run_scene_set(parse_scene_set(yaml, "frames2.yaml"), quiet(out, 2));
+  const std::string csv = slurp(out / "results.csv");
+  const EstimatorRows per_case = rows_of(csv, "v2_per_case"), persistent = rows_of(csv, "v2_persistent");
+  expect_same_rows(per_case, persistent, 0, "persistent vs per case");
+  expect_same_rows(per_case, rows_of(csv, "pca_box"), 1e-6, "numpy vs pca_box");
+  bool manual = false;
+  for (const auto& n : per_case.notes) {
+    EXPECT_NE(n.find("grapebench-estimator-2, single_frame, frame "), std::string::npos) << n;
+    manual = manual || n.find("manual_r, normals+viewpoints+colours") != std::string::npos;
+  }
+  EXPECT_TRUE(manual);
+  const auto timings = nlohmann::json::parse(slurp(out / "timings.json"));
+  for (const auto& t : timings) {
+    std::printf("[external] single_frame %-14s median %.1f ms per region\n", t["estimator"].get<std::string>().c_str(),
+                t["median_s"].get<double>() * 1e3);
+  }
 }
 
 // Seed 003's single-frame pipeline: rows per frame and ROI kind, the perfect manual
