@@ -423,6 +423,14 @@ std::string v2_entries(const std::string& quantities, const std::string& method)
   return s;
 }
 
+// Each estimator's median time per run, for the log (not a pass criterion).
+void print_timings(const fs::path& out, const char* protocol) {
+  for (const auto& t : nlohmann::json::parse(slurp(out / "timings.json"))) {
+    std::printf("[external] %s %-24s median %.1f ms per run\n", protocol, t["estimator"].get<std::string>().c_str(),
+                t["median_s"].get<double>() * 1e3);
+  }
+}
+
 void expect_same_rows(const EstimatorRows& a, const EstimatorRows& b, double rel, const std::string& what) {
   ASSERT_FALSE(a.estimate.empty()) << what;
   ASSERT_EQ(a.estimate.size(), b.estimate.size()) << what;
@@ -453,11 +461,7 @@ TEST(External, ProtocolTwoOnMultiViewPerCaseAndPersistent) {
   for (const auto& n : persistent.notes) {
     EXPECT_NE(n.find("grapebench-estimator-2, multi_view, 4 views, normals+viewpoints+colours"), std::string::npos) << n;
   }
-  const auto timings = nlohmann::json::parse(slurp(out / "timings.json"));
-  for (const auto& t : timings) {
-    std::printf("[external] multi_view %-14s median %.1f ms per case\n", t["estimator"].get<std::string>().c_str(),
-                t["median_s"].get<double>() * 1e3);
-  }
+  print_timings(out, "multi_view");
 }
 
 // Protocol 2 on the single_frame protocol: the program gets each ROI's points with
@@ -498,11 +502,7 @@ estimators:
     manual = manual || n.find("manual_r, normals+viewpoints+colours") != std::string::npos;
   }
   EXPECT_TRUE(manual);
-  const auto timings = nlohmann::json::parse(slurp(out / "timings.json"));
-  for (const auto& t : timings) {
-    std::printf("[external] single_frame %-14s median %.1f ms per region\n", t["estimator"].get<std::string>().c_str(),
-                t["median_s"].get<double>() * 1e3);
-  }
+  print_timings(out, "single_frame");
 }
 
 // Seed 003's single-frame pipeline: rows per frame and ROI kind, the perfect manual
