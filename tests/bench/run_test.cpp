@@ -409,10 +409,18 @@ EstimatorRows rows_of(const std::string& csv, const std::string& estimator) {
   return out;
 }
 
-// Two entries of the example program through protocol 2, per case and persistent.
+// Two entries of the example program through protocol 2, per case and persistent,
+// and two of a program that validates every request against the protocol's schema.
 std::string v2_entries(const std::string& quantities, const std::string& method) {
-  const std::string script = std::string(GRAPEBENCH_SOURCE_DIR) + "/scripts/external/open3d_estimator.py";
+  const std::string source = GRAPEBENCH_SOURCE_DIR, script = source + "/scripts/external/open3d_estimator.py";
   std::string s;
+  for (const char* mode : {"per_case", "persistent"}) {
+    const bool persistent = std::string(mode) == "persistent";
+    s += std::string("  - type: external\n    name: schema_") + mode + "\n    version: 2\n" +
+         (persistent ? "    persistent: true\n" : "") + "    quantities: " + quantities +
+         "\n    command: [/usr/bin/python3, " + source + "/tests/bench/data/schema_check.py, " + source +
+         "/docs/external-protocol.schema.json" + (persistent ? ", --persistent" : "") + "]\n";
+  }
   for (const char* mode : {"per_case", "persistent"}) {
     const bool persistent = std::string(mode) == "persistent";
     s += std::string("  - type: external\n    name: v2_") + mode + "\n    version: 2\n" +
@@ -421,6 +429,16 @@ std::string v2_entries(const std::string& quantities, const std::string& method)
          (persistent ? ", --persistent" : "") + "]\n";
   }
   return s;
+}
+
+// Every request the schema checker got conformed to docs/external-protocol.schema.json.
+void expect_schema_ok(const std::string& csv) {
+  for (const char* name : {"schema_per_case", "schema_persistent"}) {
+    const EstimatorRows rows = rows_of(csv, name);
+    ASSERT_FALSE(rows.notes.empty()) << name;
+    for (const auto& n : rows.notes) EXPECT_NE(n.find("schema ok: grapebench-estimator-2"), std::string::npos) << n;
+    for (const auto& [key, v] : rows.estimate) EXPECT_FALSE(std::isnan(v)) << name << " " << key << "\n" << csv;
+  }
 }
 
 // Each estimator's median time per run, for the log (not a pass criterion).
@@ -455,6 +473,7 @@ TEST(External, ProtocolTwoOnMultiViewPerCaseAndPersistent) {
   const std::string csv = slurp(out / "results.csv");
   const EstimatorRows per_case = rows_of(csv, "v2_per_case"), persistent = rows_of(csv, "v2_persistent");
   expect_same_rows(per_case, persistent, 0, "persistent vs per case");
+  expect_schema_ok(csv);
   EstimatorRows builtin = rows_of(csv, "CH");
   for (const auto& [k, v] : rows_of(csv, "pca_box").estimate) builtin.estimate[k] = v;
   expect_same_rows(per_case, builtin, 1e-6, "Open3D/numpy vs CGAL hull and PCA box");
@@ -495,6 +514,7 @@ estimators:
   const std::string csv = slurp(out / "results.csv");
   const EstimatorRows per_case = rows_of(csv, "v2_per_case"), persistent = rows_of(csv, "v2_persistent");
   expect_same_rows(per_case, persistent, 0, "persistent vs per case");
+  expect_schema_ok(csv);
   expect_same_rows(per_case, rows_of(csv, "pca_box"), 1e-6, "numpy vs pca_box");
   bool manual = false;
   for (const auto& n : per_case.notes) {
