@@ -5,6 +5,7 @@
 #include "algorithms/cylinder_fit.h"
 #include "algorithms/cylinder_model_volume.h"
 #include "algorithms/ellipsoid_fit.h"
+#include "algorithms/ellipsoid_volume.h"
 #include "algorithms/external_estimator.h"
 #include "algorithms/mls_smooth.h"
 #include "algorithms/pca_box.h"
@@ -126,6 +127,8 @@ const Registry<EstimatorBinding>& estimator_registry() {
                     [](const AlphaShapeParams& a, const PointCloud& c, const PointCloud&) {
                       return volume_only(alpha_shape_volume(c, a));
                     }),
+          estimator("ellipsoid_volume", "4/3 pi r1 r2 r3 of the algebraic ellipsoid fit", {Q::Volume}, no_params(),
+                    [](const NoParams&, const PointCloud& c, const PointCloud&) { return volume_only(ellipsoid_volume(c)); }),
           estimator("voxel", "VB: voxel counting (seed 000 Eq. 7), voxel edge in m", {Q::Volume},
                     voxel_volume_param_table(),
                     [](const VoxelVolumeParams& v, const PointCloud& c, const PointCloud&) {

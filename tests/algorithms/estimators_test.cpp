@@ -250,6 +250,8 @@ std::vector<Case> cases() {
       // Seed 002's centre-section perimeters of a sphere: great circles.
       {"perimeters", "type: section_perimeters", sphere, Quantity::PerimeterH, great_circle, 0.005},
       {"perimeters", "type: section_perimeters", sphere, Quantity::PerimeterW, great_circle, 0.005},
+      // The ellipsoid fit's volume is exact on a sphere and an ellipsoid.
+      {"EV", "type: ellipsoid_volume", sphere, V, solid, 1e-4}, {"EV", "type: ellipsoid_volume", ellipsoid, V, solid, 1e-4},
       // An external program (Open3D's hull) answers as CH does.
       {"external", kExternal, sphere, V, hull, 0.005},
   };
