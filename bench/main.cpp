@@ -3,6 +3,7 @@
 #include "bench/check.h"
 #include "bench/runner.h"
 #include "bench/scan_run.h"
+#include "bench/protocols/registry.h"
 #include "bench/scene_file.h"
 #include "bench/synth_run.h"
 #include "synth/config.h"
@@ -78,8 +79,11 @@ std::string run_help() {
   std::ostringstream s;
   s << "A scene for `run` adds to the sections of `scan` (see `grapebench scan --help`).\n"
        "Columns: key, unit, default, allowed range; then the key's meaning.\n\n"
-       "pipeline:\n"
+       "protocol: how a case turns a bunch into estimates (default multi_view):\n"
+    << protocol_registry().help("  ") << "\npipeline: (keys marked 'only with' apply to that protocol or setting)\n"
     << pipeline_param_table().help(PipelineSpec{})
+    << "    registration: protocol multi_view: a method's name, or {type: ..., keys}:\n"
+    << registration_registry().help("    ")
     << "    view_filters, cloud_filters: lists of pipeline steps {type: ..., keys}, on each view (camera\n"
        "        frame) and on the registered cloud:\n"
     << filter_registry().help("    ") << "\nestimators: a list of {type: ..., name: column name (default: the type), keys}\n"

@@ -232,12 +232,18 @@ std::string file_name(std::string s) {
   return s;
 }
 
-}  // namespace
+// What every section of the report reads.
+struct ReportContext {
+  const SceneSet& set;
+  const std::vector<CaseResult>& cases;
+  const std::vector<ScoreRow>& scores;
+  const std::vector<SizeErrorCell>& size_cells;
+  std::vector<std::pair<std::string, std::string>> eq;  // (estimator, quantity) in scene order
+};
 
-Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores,
-                   const std::vector<SizeErrorCell>& size_cells) {
-  Report rep;
-  std::ostringstream h;
+// The page head and the run's description.
+void header(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>grapebench: " << esc(set.base.name)
     << "</title>\n<style>body{font-family:sans-serif;margin:24px;max-width:1500px}table{border-collapse:collapse;"
        "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}th{background:#f3f3f3}"
@@ -247,8 +253,11 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
     << (set.conditions.empty() ? 0 : bunch_jobs(set.conditions[0].scene).size()) << " bunches). Errors are estimate - truth; "
     << "R2 is the squared correlation (the papers'), slope/intercept of the least-squares fit estimate = a truth + b. "
        "Volumes in cm3, lengths in mm.</p>\n";
+}
 
-  // Scores table.
+// Scores table.
+void scores_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   h << "<h2>Scores</h2>\n<table><tr><th class=l>condition</th><th class=l>estimator</th><th class=l>quantity</th>"
        "<th>ok</th><th>R2</th><th>RMSE</th><th>MAE</th><th>bias</th><th>MAPE %</th><th>slope</th><th>intercept</th>"
        "<th>time median ms</th><th>peak heap MB</th></tr>\n";
@@ -262,8 +271,11 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
       << "</td></tr>\n";
   }
   h << "</table>\n";
+}
 
-  // Registration table.
+// Segmentation, registration and cloud filters per condition.
+void pipeline_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   h << "<h2>Pipeline: segmentation, registration, cloud filters</h2>\n<table><tr><th class=l>condition</th>"
        "<th class=l>segmentation</th><th>precision</th><th>recall</th><th class=l>registration</th><th>cases</th>"
        "<th>rotation error, mean of per-case max (deg)</th><th>worst (deg)</th><th>translation error, mean of max (mm)</th>"
@@ -285,13 +297,12 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
     h << "</td><td>" << r.failed << "</td></tr>\n";
   }
   h << "</table>\n";
+}
 
-  // Estimated vs true, per estimator and quantity, coloured by condition.
+// Estimated vs true, per estimator and quantity, coloured by condition.
+void scatter_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   h << "<h2>Estimated vs true</h2>\n<div class=plots>\n";
-  std::vector<std::pair<std::string, std::string>> eq;  // (estimator, quantity) in scene order
-  for (const auto& r : scores) {
-    if (std::find(eq.begin(), eq.end(), std::make_pair(r.estimator, r.quantity)) == eq.end()) eq.emplace_back(r.estimator, r.quantity);
-  }
   for (const auto& [est, q] : eq) {
     const double k = display_scale(q);
     std::vector<Series> series;
@@ -316,8 +327,11 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
     h << svg;
   }
   h << "</div>\n";
+}
 
-  // Error vs each swept parameter (mean relative error with its spread over bunches).
+// Error vs each swept parameter (mean relative error with its spread over bunches).
+void sweep_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   if (!set.base.sweep.empty()) {
     h << "<h2>Error vs swept parameters</h2>\n<div class=plots>\n";
     std::set<std::string> quantities;
@@ -362,7 +376,11 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
     }
     h << "</div>\n";
   }
+}
 
+// Seed 003: Table II and Figs. 8-9 from the size-error cells.
+void size_error_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   if (!size_cells.empty()) {
     // Seed 003's Table II: Err (Eq. 3) per estimator and ROI kind, all conditions pooled.
     const std::vector<std::string> kinds = {"auto_r", "auto_cm", "manual_r", "manual_cm"};
@@ -456,8 +474,11 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
       h << "</div>\n";
     }
   }
+}
 
-  // Time per estimator (all conditions pooled).
+// Time per estimator (all conditions pooled).
+void timing_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   {
     std::vector<std::string> names;
     std::vector<double> med, lo, hi;
@@ -481,8 +502,11 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
     rep.svgs["time.svg"] = svg;
     h << "<h2>Time per estimator</h2>\n" << svg;
   }
+}
 
-  // Failures, if any.
+// Failures, if any, and the list of files.
+void failures_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   std::ostringstream fails;
   for (const auto& cr : cases) {
     if (!cr.ok) {
@@ -503,6 +527,24 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
   }
   h << "<p>Files: results.csv (one row per case, estimator and quantity), timings.csv, summary.json, timings.json, "
        "manifest.json (all parameters with defaults, seeds, commit, machine), plots/*.svg.</p>\n</body></html>\n";
+}
+
+}  // namespace
+
+Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores,
+                   const std::vector<SizeErrorCell>& size_cells) {
+  ReportContext ctx{set, cases, scores, size_cells, {}};
+  for (const auto& r : scores) {
+    if (std::find(ctx.eq.begin(), ctx.eq.end(), std::make_pair(r.estimator, r.quantity)) == ctx.eq.end()) {
+      ctx.eq.emplace_back(r.estimator, r.quantity);
+    }
+  }
+  Report rep;
+  std::ostringstream h;
+  for (auto section : {header, scores_section, pipeline_section, scatter_section, sweep_section, size_error_section,
+                       timing_section, failures_section}) {
+    section(ctx, rep, h);
+  }
   rep.html = h.str();
   return rep;
 }

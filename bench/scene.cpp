@@ -13,8 +13,6 @@ namespace grapebench {
 
 namespace {
 
-const std::vector<std::string> kRegistrations = {"true_poses", "seed000_pca_icp", "known_angle_icp", "plain_icp"};
-
 std::vector<std::pair<std::string, std::string>> names(const std::vector<std::string>& list) {
   std::vector<std::pair<std::string, std::string>> out;
   for (const auto& s : list) out.emplace_back(s, s);
@@ -23,7 +21,6 @@ std::vector<std::pair<std::string, std::string>> names(const std::vector<std::st
 
 bool single_frame(const PipelineSpec& p) { return p.protocol == "single_frame"; }
 bool multi_view(const PipelineSpec& p) { return p.protocol == "multi_view"; }
-bool uses_icp(const PipelineSpec& p) { return multi_view(p) && p.registration != "true_poses"; }
 
 nlohmann::ordered_json steps_json(const std::vector<FilterSpec>& list) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
@@ -40,19 +37,6 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
           .choice("segmentation", &P::segmentation, names({"labels", "none"}),
                   "labels: the returns on bunch parts (an oracle); none: every return, view_filters must find the "
                   "bunch (single_frame: none only)")
-          .choice("registration", &P::registration, names(kRegistrations),
-                  "how the views are brought together: true_poses; seed000_pca_icp (seed 000); known_angle_icp "
-                  "(seed 002 Eqs. 1-4); plain_icp")
-          .when("protocol: multi_view", multi_view)
-          .section("icp", &P::icp, icp_param_table(), "ICP of the registration")
-          .when("an ICP registration", uses_icp)
-          .integer("group_size", "count", &P::group_size, 1, 360, "views per group (seed 000's grouped registration)")
-          .when("registration: seed000_pca_icp", [](const P& p) { return p.registration == "seed000_pca_icp"; })
-          .real("bottom_band", "m", &P::bottom_band, 0.001, 0.5,
-                "lowest band the bottom view is aligned on (seed 002 Eqs. 3-4: 30 mm)")
-          .when("registration: known_angle_icp", [](const P& p) { return p.registration == "known_angle_icp"; })
-          .real("angle_error_sd_deg", "deg", &P::angle_error_sd_deg, 0, 45, "turntable positioning error, seeded")
-          .when("registration: known_angle_icp", [](const P& p) { return p.registration == "known_angle_icp"; })
           .real("min_points", "count", &P::min_points, 4, 1e9, "a case with fewer bunch points fails")
           .when("protocol: multi_view", multi_view)
           .real("visibility_hull", "m", &P::visibility_hull, 0, 0.05,
@@ -81,6 +65,7 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
 
 nlohmann::ordered_json PipelineSpec::describe() const {
   nlohmann::ordered_json j = pipeline_param_table().to_json(*this);
+  if (multi_view(*this)) j["registration"] = registration.params;
   j["view_filters"] = steps_json(view_filters);
   if (multi_view(*this)) j["cloud_filters"] = steps_json(cloud_filters);
   return j;
@@ -90,12 +75,34 @@ PipelineSpec pipeline_defaults(const std::string& protocol) {
   PipelineSpec p;
   p.protocol = protocol;
   if (single_frame(p)) p.segmentation = "none";
+  p.registration.run = registration_registry().make(p.registration.type, &p.registration.params);
   return p;
 }
+
+namespace {
+
+// `registration: name` (its defaults) or `registration: {type: name, keys...}`.
+RegistrationSpec read_registration(const ConfigNode& n) {
+  RegistrationSpec r;
+  if (n.yaml()["registration"].IsMap()) {
+    r.run = registration_registry().create(n.child("registration"), r.params);
+    r.type = r.params["type"].get<std::string>();
+  } else {
+    r.type = n.get_choice("registration", r.type, registration_registry().types());
+    r.run = registration_registry().make(r.type, &r.params);
+  }
+  return r;
+}
+
+}  // namespace
 
 PipelineSpec read_pipeline(const ConfigNode& n, const std::string& protocol) {
   PipelineSpec p = pipeline_defaults(protocol);
   pipeline_param_table().read(n, p);
+  if (n.has("registration")) {
+    if (!multi_view(p)) n.fail("registration", "is read only with protocol: multi_view");
+    p.registration = read_registration(n);
+  }
   for (const char* list : {"view_filters", "cloud_filters"}) {
     if (!n.has(list)) continue;
     for (const auto& f : n.children(list)) {
@@ -134,7 +141,7 @@ std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
 }
 
 std::string registration_label(const Scene& scene) {
-  return scene.protocol == "multi_view" ? scene.pipeline.registration : scene.protocol;
+  return scene.protocol == "multi_view" ? scene.pipeline.registration.type : scene.protocol;
 }
 
 RayScene scene_rays(const Scene& scene, const Bunch& bunch, std::uint64_t bunch_seed) {

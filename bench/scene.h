@@ -4,6 +4,7 @@
 #include "algorithms/registration.h"
 #include "algorithms/registry.h"
 #include "algorithms/seed003_roi.h"
+#include "bench/protocols/registration_methods.h"
 #include "sensors/rig.h"
 #include "sensors/sensor_registry.h"
 #include "synth/foliage.h"
@@ -30,6 +31,14 @@ struct FilterSpec {
   BoundFilter run;
 };
 
+// A registration method with its parameters (scene `pipeline.registration`: a name,
+// or {type: name, keys...}).
+struct RegistrationSpec {
+  std::string type = "true_poses";
+  nlohmann::ordered_json params;  // {type, every key with its value}
+  RegistrationMethod run;
+};
+
 // How the views of a scan become one bunch cloud (scene section `pipeline:`):
 // segmentation, view_filters on each view (camera frame), registration, then
 // cloud_filters on the registered cloud.
@@ -40,11 +49,11 @@ struct PipelineSpec {
   std::string segmentation = "labels";
   std::vector<FilterSpec> view_filters;
   std::vector<FilterSpec> cloud_filters;
-  // multi_view: true_poses | seed000_pca_icp | known_angle_icp | plain_icp. The
-  // single_frame protocol (seed 003) registers nothing: every view is measured alone:
-  // its returns go through view_filters (the pass-through), then each ROI of `rois` is
-  // fine-tuned and the estimators run on it (rows per frame and ROI).
-  std::string registration = "true_poses";
+  // multi_view: a registered method (bench/protocols/registration_methods.h) with its
+  // keys. The single_frame protocol (seed 003) registers nothing: every view is
+  // measured alone: its returns go through view_filters (the pass-through), then each
+  // ROI of `rois` is fine-tuned and the estimators run on it (rows per frame and ROI).
+  RegistrationSpec registration;
   // The scene's protocol (context for which keys apply; not a key of `pipeline:`).
   std::string protocol = "multi_view";
   // single_frame: auto_r (ROI_R^A), auto_cm (ROI_CM from it, Eq. 2), manual_r (ROI_R^M:
@@ -54,10 +63,6 @@ struct PipelineSpec {
   Seed003RoiParams roi;
   bool fine_tune = true;         // single_frame: the fine-tuning step on every ROI
   int manual_min_berry_points = 100;  // single_frame: fewer visible berry returns, no label, [1, 1e8]
-  IcpParams icp;
-  int group_size = 3;              // seed000_pca_icp: views per group, [1, 360]
-  double bottom_band = 0.03;       // known_angle_icp: lowest band for the bottom view, m, [0.001, 0.5]
-  double angle_error_sd_deg = 0;   // known_angle_icp: turntable angle error, deg, [0, 45]
   double min_points = 100;         // a case with fewer bunch points fails, [4, 1e9]
   // m, sample step of the rig's visibility hull (sensors/visibility_hull.h), reported
   // as the volume row of the reference `visibility_hull`: the floor of any estimator

@@ -86,11 +86,15 @@ class Registry {
     params = with_type(e.type, p);
     return out;
   }
-  // The product of `type` with every parameter at its default (a type known in code).
-  Product make(const std::string& type) const {
+  // The product of `type` with every parameter at its default (a type known in code);
+  // `params`, when given, gets {type, parameters...}.
+  Product make(const std::string& type, nlohmann::ordered_json* params = nullptr) const {
     for (const auto& e : entries_) {
-      nlohmann::ordered_json ignored;
-      if (e.type == type) return e.create(ConfigNode::load_string("{}", kind_ + " " + type), ignored);
+      if (e.type != type) continue;
+      nlohmann::ordered_json p;
+      Product out = e.create(ConfigNode::load_string("{}", kind_ + " " + type), p);
+      if (params) *params = with_type(type, p);
+      return out;
     }
     throw std::logic_error("no " + kind_ + " '" + type + "' is registered");
   }

@@ -4,7 +4,6 @@
 #include "bench/case_result.h"
 #include "bench/protocols/capture.h"
 #include "sensors/visibility_hull.h"
-#include "synth/rng.h"
 
 #include <algorithm>
 #include <chrono>
@@ -63,46 +62,26 @@ SegmentedViews segment(const PipelineSpec& pl, const Scan& scan, CaseResult& r) 
   return out;
 }
 
-Eigen::Isometry3d rotation_about_vertical(const Vec3& centre, double angle_rad) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::AngleAxisd(angle_rad, Vec3::UnitZ()).toRotationMatrix();
-  t.translation() = centre - t.linear() * centre;
-  return t;
-}
-
-// Stage "register": each view's pose (camera to the first view's world, or the
-// world itself with true poses), and the pose errors against the truth in `r`.
+// Stage "register": each view's pose by the scene's registration method, and the
+// pose errors against the truth in `r` where the method estimated them.
 std::vector<Eigen::Isometry3d> register_views(const PipelineSpec& pl, const Scan& scan, const GroundTruth& gt,
                                               const BunchJob& job, std::vector<RegistrationView>& views,
                                               CaseResult& r) {
-  std::vector<Eigen::Isometry3d> poses(views.size());
-  if (pl.registration == "true_poses") {
-    for (std::size_t k = 0; k < views.size(); ++k) poses[k] = scan.views[k].rig.pose;
-    return poses;
-  }
-  for (const auto& v : views) {
-    if (v.points.rows() < 10) {
-      throw InputError("view " + v.name + " has " + std::to_string(v.points.rows()) +
-                       " bunch points; registration needs at least 10 in every view");
+  RegistrationContext context;
+  for (const auto& v : scan.views) context.rig_poses.push_back(v.rig.pose);
+  context.axis_point = 0.5 * (gt.bbox_min + gt.bbox_max);
+  context.seed = job.seed;
+  if (pl.registration.type != "true_poses") {
+    for (const auto& v : views) {
+      if (v.points.rows() < 10) {
+        throw InputError("view " + v.name + " has " + std::to_string(v.points.rows()) +
+                         " bunch points; registration needs at least 10 in every view");
+      }
     }
   }
+  const RegistrationOutcome reg = pl.registration.run(views, context);
+  if (!reg.estimated) return reg.poses;
   const Eigen::Isometry3d t0_inv = scan.views.front().rig.pose.inverse();
-  RegistrationResult reg;
-  if (pl.registration == "seed000_pca_icp") {
-    reg = register_seed000(views, pl.icp, pl.group_size);
-  } else if (pl.registration == "plain_icp") {
-    reg = register_plain_icp(views, pl.icp);
-  } else {
-    // Known turntable angles about a calibrated axis; an optional seeded angle error
-    // stands for the turntable's positioning error.
-    const Vec3 centre = 0.5 * (gt.bbox_min + gt.bbox_max);
-    Rng rng(derive_seed(job.seed, 0xa11e));
-    for (std::size_t k = 1; k < views.size(); ++k) {
-      const double err = pl.angle_error_sd_deg * rng.normal() * M_PI / 180;
-      views[k].nominal = t0_inv * rotation_about_vertical(centre, err) * scan.views[k].rig.pose;
-    }
-    reg = register_known_angle(views, t0_inv.linear() * Vec3::UnitZ(), pl.icp, pl.bottom_band);
-  }
   double rsum = 0, tsum = 0;
   for (std::size_t k = 1; k < views.size(); ++k) {
     const Eigen::Isometry3d truth = t0_inv * scan.views[k].rig.pose;

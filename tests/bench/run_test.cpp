@@ -112,12 +112,13 @@ TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
   m = error_of(std::string(kScene) + "pipeline:\n  registration: magic\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("allowed: true_poses"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "pipeline:\n  registration: plain_icp\n  icp:\n    max_iterations: 0\n");
-  EXPECT_NE(m.find("pipeline.icp.max_iterations"), std::string::npos) << m;
+  m = error_of(std::string(kScene) +
+               "pipeline:\n  registration:\n    type: plain_icp\n    icp:\n      max_iterations: 0\n");
+  EXPECT_NE(m.find("pipeline.registration.icp.max_iterations"), std::string::npos) << m;
   EXPECT_NE(m.find("[1, 10000]"), std::string::npos) << m;
   // ICP settings mean nothing with the true poses: an error, not a silent default.
-  m = error_of(std::string(kScene) + "pipeline:\n  icp:\n    max_iterations: 5\n");
-  EXPECT_NE(m.find("scene.yaml:22: 'pipeline.icp': is read only with an ICP registration"), std::string::npos) << m;
+  m = error_of(std::string(kScene) + "pipeline:\n  registration:\n    type: true_poses\n    icp:\n      max_iterations: 5\n");
+  EXPECT_NE(m.find("scene.yaml:24: unknown key 'pipeline.registration.icp'"), std::string::npos) << m;
 }
 
 TEST(Pipeline, FilterStepsAreRegisteredAndStrict) {
