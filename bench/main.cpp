@@ -14,6 +14,8 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <iostream>
 #include <sstream>
 
@@ -123,173 +125,214 @@ int synth_command(const std::string& scene_path, const std::string& preset_name,
   return 0;
 }
 
-}  // namespace
+// A subcommand: its CLI11 app, and what it does once its options are parsed (its exit
+// code). Each holds its options in a state its action shares.
+struct Command {
+  CLI::App* app;
+  std::function<int()> action;
+};
 
-int main(int argc, char** argv) {
-  CLI::App app{"grapebench: benchmark harness for grape-bunch geometry estimators"};
-  app.require_subcommand(1);
-
-  // grapebench synth
+Command synth_subcommand(CLI::App& app) {
+  struct Options {
+    std::string scene_path, preset_name = "table-red", out_dir = "results/synth";
+    int count = 1;
+    std::uint64_t seed = 1;
+    std::vector<std::string> sets;
+    SynthOptions opt;
+  };
+  auto o = std::make_shared<Options>();
   auto* synth = app.add_subcommand("synth", "Generate procedural grape bunches with exact ground truth");
-  std::string scene_path, preset_name = "table-red";
-  int count = 1;
-  std::uint64_t seed = 1;
-  std::vector<std::string> sets;
-  SynthOptions opt;
-  std::string out_dir = "results/synth";
-  synth->add_option("scene", scene_path, "Scene file (YAML); without it, --preset/--count/--seed are used")
+  synth->add_option("scene", o->scene_path, "Scene file (YAML); without it, --preset/--count/--seed are used")
       ->check(CLI::ExistingFile);
-  synth->add_option("--preset", preset_name, "Variety preset")
+  synth->add_option("--preset", o->preset_name, "Variety preset")
       ->check(CLI::IsMember(preset_names()))->capture_default_str();
-  synth->add_option("--count", count, "Number of bunches")->check(CLI::Range(1, 100000))->capture_default_str();
-  synth->add_option("--seed", seed, "Scene seed (each bunch derives its own)")->capture_default_str();
-  synth->add_option("--set", sets, "Override a bunch parameter, key=value (repeatable)");
-  synth->add_option("--out", out_dir, "Output folder")->capture_default_str();
-  synth->add_flag("--no-mesh", [&](std::int64_t) { opt.write_mesh = false; }, "Write ground truth only");
-  synth->add_option("--mesh-level", opt.mesh.sphere_subdivisions, "Icosphere subdivisions per berry")
+  synth->add_option("--count", o->count, "Number of bunches")->check(CLI::Range(1, 100000))->capture_default_str();
+  synth->add_option("--seed", o->seed, "Scene seed (each bunch derives its own)")->capture_default_str();
+  synth->add_option("--set", o->sets, "Override a bunch parameter, key=value (repeatable)");
+  synth->add_option("--out", o->out_dir, "Output folder")->capture_default_str();
+  synth->add_flag("--no-mesh", [o](std::int64_t) { o->opt.write_mesh = false; }, "Write ground truth only");
+  synth->add_option("--mesh-level", o->opt.mesh.sphere_subdivisions, "Icosphere subdivisions per berry")
       ->check(CLI::Range(0, 6))->capture_default_str();
-  synth->add_option("--tube-sides", opt.mesh.tube_sides, "Sides of stem tubes")
+  synth->add_option("--tube-sides", o->opt.mesh.tube_sides, "Sides of stem tubes")
       ->check(CLI::Range(3, 256))->capture_default_str();
-  synth->add_option("--threads", opt.threads, "Worker threads (0 = all cores); outputs do not depend on it")
+  synth->add_option("--threads", o->opt.threads, "Worker threads (0 = all cores); outputs do not depend on it")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   synth->footer(parameter_help());
+  return {synth, [o] {
+            o->opt.out = o->out_dir;
+            return synth_command(o->scene_path, o->preset_name, o->count, o->seed, o->sets, o->opt);
+          }};
+}
 
-  // grapebench run
-  auto* run = app.add_subcommand("run", "Run scene files: scan, register, estimate, score, report (default: scenes/default.yaml)");
-  std::vector<std::string> run_scenes;
-  std::string run_out = "results/runs", shard;
-  RunOptions run_opt;
-  run->add_option("scenes", run_scenes, "Scene files")->check(CLI::ExistingFile);
-  run->add_option("--out", run_out, "Output folder (one subfolder per scene)")->capture_default_str();
-  run->add_option("--threads", run_opt.threads, "Worker threads (0 = all cores); results do not depend on it")
+// --shard i/N into the options.
+void parse_shard(const std::string& shard, RunOptions& o) {
+  if (shard.empty()) return;
+  const auto slash = shard.find('/');
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("no slash");
+    o.shard_index = std::stoi(shard.substr(0, slash));
+    o.shard_count = std::stoi(shard.substr(slash + 1));
+  } catch (const std::exception&) {
+    throw InputError("--shard expects i/N (0 <= i < N), got '" + shard + "'");
+  }
+}
+
+int run_command(std::vector<std::string> scenes, const std::string& out, const std::string& shard, RunOptions run_opt) {
+  if (scenes.empty()) scenes = {"scenes/default.yaml"};
+  parse_shard(shard, run_opt);
+  // Every scene is read (and every error reported) before any work starts.
+  std::vector<SceneSet> scene_sets;
+  for (const auto& path : scenes) scene_sets.push_back(load_scene_set(path));
+  for (const auto& set : scene_sets) {
+    RunOptions o = run_opt;
+    o.out = std::filesystem::path(out) / set.base.name;
+    std::printf("== %s (%s): %zu condition(s) x %zu bunches\n", set.base.name.c_str(), set.base.path.c_str(),
+                set.conditions.size(), bunch_jobs(set.base).size());
+    std::fflush(stdout);
+    const auto t0 = std::chrono::steady_clock::now();
+    const RunOutcome r = run_scene_set(set, o);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("%d cases: %d computed, %d reused from %s/cases (%.1f s)\n", r.cases, r.computed, r.reused,
+                o.out.string().c_str(), wall);
+    if (r.complete) {
+      std::cout << r.leaderboard;
+      std::printf("results: %s/{results.csv,summary.json,report.html}\n", o.out.string().c_str());
+    } else {
+      std::printf("shard %d/%d done; join the shards with `grapebench merge %s --from <dirs> --out <dir>`\n",
+                  o.shard_index, o.shard_count, set.base.path.c_str());
+    }
+  }
+  return 0;
+}
+
+Command run_subcommand(CLI::App& app) {
+  struct Options {
+    std::vector<std::string> scenes;
+    std::string out = "results/runs", shard;
+    RunOptions run;
+  };
+  auto o = std::make_shared<Options>();
+  auto* run =
+      app.add_subcommand("run", "Run scene files: scan, register, estimate, score, report (default: scenes/default.yaml)");
+  run->add_option("scenes", o->scenes, "Scene files")->check(CLI::ExistingFile);
+  run->add_option("--out", o->out, "Output folder (one subfolder per scene)")->capture_default_str();
+  run->add_option("--threads", o->run.threads, "Worker threads (0 = all cores); results do not depend on it")
       ->check(CLI::Range(0, 1024))->capture_default_str();
-  run->add_option("--shard", shard, "Run only slice i of N (i/N, 0-based); join with `grapebench merge`");
-  run->add_flag("--no-resume", [&](std::int64_t) { run_opt.resume = false; }, "Recompute finished cases too");
-  run->add_flag("--quiet", run_opt.quiet, "No progress output");
+  run->add_option("--shard", o->shard, "Run only slice i of N (i/N, 0-based); join with `grapebench merge`");
+  run->add_flag("--no-resume", [o](std::int64_t) { o->run.resume = false; }, "Recompute finished cases too");
+  run->add_flag("--quiet", o->run.quiet, "No progress output");
   run->footer(run_help());
+  return {run, [o] { return run_command(o->scenes, o->out, o->shard, o->run); }};
+}
 
-  // grapebench merge
+Command merge_subcommand(CLI::App& app) {
+  struct Options {
+    std::string scene, out;
+    std::vector<std::string> from;
+  };
+  auto o = std::make_shared<Options>();
   auto* merge = app.add_subcommand("merge", "Join the case files of `run --shard` folders and write the tables and report");
-  std::string merge_scene, merge_out;
-  std::vector<std::string> merge_from;
-  merge->add_option("scene", merge_scene, "The scene file the shards ran")->required()->check(CLI::ExistingFile);
-  merge->add_option("--from", merge_from, "Shard output folders (the scene's folder in each)")->required();
-  merge->add_option("--out", merge_out, "Merged output folder")->required();
+  merge->add_option("scene", o->scene, "The scene file the shards ran")->required()->check(CLI::ExistingFile);
+  merge->add_option("--from", o->from, "Shard output folders (the scene's folder in each)")->required();
+  merge->add_option("--out", o->out, "Merged output folder")->required();
+  return {merge, [o] {
+            const SceneSet set = load_scene_set(o->scene);
+            RunOptions ro;
+            ro.out = o->out;
+            const std::vector<std::filesystem::path> dirs(o->from.begin(), o->from.end());
+            const RunOutcome r = merge_shards(set, dirs, ro);
+            std::cout << r.leaderboard;
+            std::printf("merged %d cases into %s\n", r.cases, o->out.c_str());
+            return 0;
+          }};
+}
 
-  // grapebench check
+Command check_subcommand(CLI::App& app) {
+  struct Options {
+    std::string run, baseline;
+  };
+  auto o = std::make_shared<Options>();
   auto* check = app.add_subcommand("check", "Compare a run's summary.json with a baseline; exit 1 on a regression");
-  std::string check_run, check_baseline;
-  check->add_option("run", check_run, "summary.json of the run (or its folder)")->required();
-  check->add_option("--baseline", check_baseline, "Baseline summary (results/baseline/<suite>.json)")->required()
+  check->add_option("run", o->run, "summary.json of the run (or its folder)")->required();
+  check->add_option("--baseline", o->baseline, "Baseline summary (results/baseline/<suite>.json)")->required()
       ->check(CLI::ExistingFile);
+  return {check, [o] {
+            std::filesystem::path p = o->run;
+            if (std::filesystem::is_directory(p)) p /= "summary.json";
+            const auto res = check_against_baseline(read_json(p, "a summary JSON file"),
+                                                    read_json(o->baseline, "a summary JSON file"));
+            std::cout << res.diff;
+            std::printf("%s: %d rows compared with %s\n", res.pass ? "PASS" : "REGRESSION", res.rows_compared,
+                        o->baseline.c_str());
+            return res.pass ? 0 : 1;
+          }};
+}
 
-  // grapebench compare-bench
+Command compare_bench_subcommand(CLI::App& app) {
+  struct Options {
+    std::string old_file, new_file;
+    double threshold = 0.10;
+  };
+  auto o = std::make_shared<Options>();
   auto* cmp = app.add_subcommand("compare-bench", "Compare two Google Benchmark JSON files; exit 1 on a slowdown");
-  std::string cmp_old, cmp_new;
-  double cmp_threshold = 0.10;
-  cmp->add_option("baseline", cmp_old, "JSON of the reference (e.g. the previous commit)")->required()->check(CLI::ExistingFile);
-  cmp->add_option("contender", cmp_new, "JSON of the new build")->required()->check(CLI::ExistingFile);
-  cmp->add_option("--threshold", cmp_threshold, "Flag ratios above 1 + threshold")->check(CLI::Range(0.0, 10.0))
+  cmp->add_option("baseline", o->old_file, "JSON of the reference (e.g. the previous commit)")->required()
+      ->check(CLI::ExistingFile);
+  cmp->add_option("contender", o->new_file, "JSON of the new build")->required()->check(CLI::ExistingFile);
+  cmp->add_option("--threshold", o->threshold, "Flag ratios above 1 + threshold")->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   cmp->footer(
       "Run both builds on the same machine with --benchmark_repetitions=9\n"
       "--benchmark_enable_random_interleaving=true --benchmark_out=<file>.json. A benchmark is flagged\n"
       "SLOWER when the ratio of medians exceeds 1 + threshold and (with 3+ repetitions each) the\n"
       "Mann-Whitney U test gives p < 0.05.");
+  return {cmp, [o] {
+            BenchComparison c;
+            try {
+              c = compare_benchmarks(read_json(o->old_file, "a Google Benchmark JSON file"),
+                                     read_json(o->new_file, "a Google Benchmark JSON file"), o->threshold);
+            } catch (const nlohmann::json::exception& e) {
+              throw InputError("compare-bench: a file lacks Google Benchmark fields: " + std::string(e.what()));
+            }
+            std::cout << c.table;
+            return c.slower ? 1 : 0;
+          }};
+}
 
-  // grapebench scan
+Command scan_subcommand(CLI::App& app) {
+  struct Options {
+    std::string scene, out = "results/scans";
+    ScanRunOptions scan;
+  };
+  auto o = std::make_shared<Options>();
   auto* scan = app.add_subcommand("scan", "Scan a scene's bunches with its sensor and rig");
-  std::string scan_scene;
-  ScanRunOptions scan_opt;
-  std::string scan_out = "results/scans";
-  scan->add_option("scene", scan_scene, "Scene file with `sensor:` and `rig:` sections")->required()
+  scan->add_option("scene", o->scene, "Scene file with `sensor:` and `rig:` sections")->required()
       ->check(CLI::ExistingFile);
-  scan->add_option("--out", scan_out, "Output folder (one subfolder per bunch)")->capture_default_str();
-  scan->add_option("--threads", scan_opt.threads, "Worker threads (0 = all cores); outputs do not depend on it")
+  scan->add_option("--out", o->out, "Output folder (one subfolder per bunch)")->capture_default_str();
+  scan->add_option("--threads", o->scan.threads, "Worker threads (0 = all cores); outputs do not depend on it")
       ->check(CLI::Range(0, 1024))->capture_default_str();
-  scan->add_option("--bunch", scan_opt.only_bunch, "Scan only this bunch index")->check(CLI::Range(0, 100000));
+  scan->add_option("--bunch", o->scan.only_bunch, "Scan only this bunch index")->check(CLI::Range(0, 100000));
   scan->footer(sensor_help());
+  return {scan, [o] {
+            const Scene scene = load_scene(o->scene);
+            o->scan.out = std::filesystem::path(o->out) / scene.name;
+            const auto rows = run_scans(scene, o->scan);
+            std::cout << scan_summary_table(rows);
+            std::printf("scans in %s\n", o->scan.out.string().c_str());
+            return 0;
+          }};
+}
 
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"grapebench: benchmark harness for grape-bunch geometry estimators"};
+  app.require_subcommand(1);
+  const std::vector<Command> commands = {synth_subcommand(app),  run_subcommand(app),           merge_subcommand(app),
+                                         check_subcommand(app), compare_bench_subcommand(app), scan_subcommand(app)};
   CLI11_PARSE(app, argc, argv);
   try {
-    if (synth->parsed()) {
-      opt.out = out_dir;
-      return synth_command(scene_path, preset_name, count, seed, sets, opt);
-    }
-    if (scan->parsed()) {
-      const Scene scene = load_scene(scan_scene);
-      scan_opt.out = std::filesystem::path(scan_out) / scene.name;
-      const auto rows = run_scans(scene, scan_opt);
-      std::cout << scan_summary_table(rows);
-      std::printf("scans in %s\n", scan_opt.out.string().c_str());
-      return 0;
-    }
-    if (run->parsed()) {
-      if (run_scenes.empty()) run_scenes = {"scenes/default.yaml"};
-      if (!shard.empty()) {
-        const auto slash = shard.find('/');
-        try {
-          if (slash == std::string::npos) throw std::invalid_argument("no slash");
-          run_opt.shard_index = std::stoi(shard.substr(0, slash));
-          run_opt.shard_count = std::stoi(shard.substr(slash + 1));
-        } catch (const std::exception&) {
-          throw InputError("--shard expects i/N (0 <= i < N), got '" + shard + "'");
-        }
-      }
-      // Every scene is read (and every error reported) before any work starts.
-      std::vector<SceneSet> scene_sets;
-      for (const auto& path : run_scenes) scene_sets.push_back(load_scene_set(path));
-      for (const auto& set : scene_sets) {
-        RunOptions o = run_opt;
-        o.out = std::filesystem::path(run_out) / set.base.name;
-        std::printf("== %s (%s): %zu condition(s) x %zu bunches\n", set.base.name.c_str(), set.base.path.c_str(),
-                    set.conditions.size(), bunch_jobs(set.base).size());
-        std::fflush(stdout);
-        const auto t0 = std::chrono::steady_clock::now();
-        const RunOutcome r = run_scene_set(set, o);
-        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::printf("%d cases: %d computed, %d reused from %s/cases (%.1f s)\n", r.cases, r.computed, r.reused,
-                    o.out.string().c_str(), wall);
-        if (r.complete) {
-          std::cout << r.leaderboard;
-          std::printf("results: %s/{results.csv,summary.json,report.html}\n", o.out.string().c_str());
-        } else {
-          std::printf("shard %d/%d done; join the shards with `grapebench merge %s --from <dirs> --out <dir>`\n",
-                      o.shard_index, o.shard_count, set.base.path.c_str());
-        }
-      }
-      return 0;
-    }
-    if (merge->parsed()) {
-      const SceneSet set = load_scene_set(merge_scene);
-      RunOptions o;
-      o.out = merge_out;
-      std::vector<std::filesystem::path> dirs(merge_from.begin(), merge_from.end());
-      const RunOutcome r = merge_shards(set, dirs, o);
-      std::cout << r.leaderboard;
-      std::printf("merged %d cases into %s\n", r.cases, merge_out.c_str());
-      return 0;
-    }
-    if (cmp->parsed()) {
-      BenchComparison c;
-      try {
-        c = compare_benchmarks(read_json(cmp_old, "a Google Benchmark JSON file"),
-                               read_json(cmp_new, "a Google Benchmark JSON file"), cmp_threshold);
-      } catch (const nlohmann::json::exception& e) {
-        throw InputError("compare-bench: a file lacks Google Benchmark fields: " + std::string(e.what()));
-      }
-      std::cout << c.table;
-      return c.slower ? 1 : 0;
-    }
-    if (check->parsed()) {
-      std::filesystem::path p = check_run;
-      if (std::filesystem::is_directory(p)) p /= "summary.json";
-      const auto res = check_against_baseline(read_json(p, "a summary JSON file"),
-                                              read_json(check_baseline, "a summary JSON file"));
-      std::cout << res.diff;
-      std::printf("%s: %d rows compared with %s\n", res.pass ? "PASS" : "REGRESSION", res.rows_compared,
-                  check_baseline.c_str());
-      return res.pass ? 0 : 1;
+    for (const auto& c : commands) {
+      if (c.app->parsed()) return c.action();
     }
   } catch (const InputError& e) {
     std::fprintf(stderr, "grapebench: error: %s\n", e.what());
