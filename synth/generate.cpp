@@ -1,11 +1,11 @@
 #include "synth/generate.h"
 
-#include "synth/rng.h"
-#include "synth/stem_geometry.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+
+#include "synth/rng.h"
+#include "synth/stem_geometry.h"
 
 namespace grapebench {
 
@@ -16,9 +16,9 @@ constexpr double kDeg = M_PI / 180.0;
 // A berry during packing: attached at `anchor` on its carrier stem's axis.
 struct Seedling {
   Vec3 anchor;
-  int carrier;          // stem index
-  double reach;         // nominal |centre - anchor| = pedicel length outside + radius
-  double reach_max;     // the pedicel may stretch up to this to make room
+  int carrier;       // stem index
+  double reach;      // nominal |centre - anchor| = pedicel length outside + radius
+  double reach_max;  // the pedicel may stretch up to this to make room
   double radius;
   Vec3 centre;
   Rgb colour;
@@ -59,98 +59,139 @@ void enforce_rod(Seedling& s, const Vec3& carrier_axis, double min_angle, double
 
 float clamp01(double v) { return static_cast<float>(std::clamp(v, 0.0, 1.0)); }
 
-}  // namespace
+// Builds one bunch in named steps; the steps draw from one generator in a fixed
+// order (size, peduncle, rachis, branches, berries), so a seed gives one bunch.
+class BunchBuilder {
+ public:
+  BunchBuilder(const BunchParams& params, std::uint64_t seed) : p(params), rng(seed) {}
 
-Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport* report) {
-  validate_bunch_params(p, "bunch parameters");
-  Rng rng(seed);
-  Bunch bunch;
-  bunch.stem_colour = p.stem_colour;
-  // Bunches with more berries are bigger: the rachis length follows the berry count's
-  // quantile (with noise) and the branches scale with it.
-  const int requested = rng.uniform_int(p.berry_count_min, p.berry_count_max);
-  const double count_quantile = p.berry_count_max > p.berry_count_min
-                       ? static_cast<double>(requested - p.berry_count_min) / (p.berry_count_max - p.berry_count_min)
-                       : 0.5;
-  const double size = std::clamp(count_quantile + rng.uniform(-0.1, 0.1), 0.0, 1.0);
-  const double L = p.rachis_length_min + size * (p.rachis_length_max - p.rachis_length_min);
-  const double branch_scale = 0.85 + 0.3 * size;
-
-  // Peduncle: the rachis top J = origin lies on its axis, `stub` above its lower end,
-  // so the rachis's first segment starts strictly inside it.
-  const double tilt = p.peduncle_angle * kDeg, azimuth = rng.uniform(0, 2 * M_PI);
-  const Vec3 up(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
-                std::cos(tilt));
-  const double stub = p.rachis_radius_top;
-  bunch.top = Vec3::Zero();
-  bunch.peduncle_direction = up;
-  bunch.cutting_point = p.cutting_point_fraction * p.peduncle_length * up;
-  bunch.stems.push_back({-stub * up, p.peduncle_length * up, p.peduncle_radius, Part::Peduncle});
-  bunch.peduncle = 0;
-
-  // Branch heights below J, jittered around a regular spacing.
-  std::vector<double> heights;
-  for (double h = p.rachis_bare_length; h <= L - p.branch_spacing; h += p.branch_spacing) {
-    heights.push_back(h + rng.uniform(-0.1, 0.1) * p.branch_spacing);
-  }
-  if (heights.empty()) heights.push_back(0.5 * (p.rachis_bare_length + L));
-  const int nb = static_cast<int>(heights.size());
-
-  // Rachis: one segment per branch, boundaries halfway between branches, radius
-  // tapering linearly with depth; segment 0 is the peduncle's child, the others are
-  // stacked coaxially on their predecessor.
-  std::vector<int> segment(nb);
-  for (int k = 0; k < nb; ++k) {
-    const double z0 = k == 0 ? 0.0 : 0.5 * (heights[k - 1] + heights[k]);
-    const double z1 = k + 1 == nb ? L : 0.5 * (heights[k] + heights[k + 1]);
-    const double frac = 0.5 * (z0 + z1) / L;
-    const double r = p.rachis_radius_top + (p.rachis_radius_bottom - p.rachis_radius_top) * frac;
-    Stem s{Vec3(0, 0, -z0), Vec3(0, 0, -z1), r, Part::Rachis};
-    if (k == 0) s.parent = bunch.peduncle;
-    else s.stacked_on = segment[k - 1];
-    segment[k] = static_cast<int>(bunch.stems.size());
-    bunch.stems.push_back(s);
+  Bunch build(GenerationReport* report) {
+    bunch.stem_colour = p.stem_colour;
+    draw_size();
+    add_peduncle();
+    add_rachis();
+    add_branches();
+    add_tip_carrier();
+    seed_berries();
+    relax();
+    remove_bad_contacts();
+    attach_berries();
+    const auto problems = check_bunch(bunch);
+    if (!problems.empty()) {
+      std::string msg = "bunch parameters give an invalid skeleton: ";
+      msg.append(problems.front());
+      msg.append(" (try a larger branch_spacing or rachis_bare_length, or thinner stems)");
+      throw InputError(msg);
+    }
+    if (report) {
+      report->berries_requested = requested;
+      report->berries_removed = removed;
+      report->rachis_length = L;
+      report->branches = branches;
+    }
+    return bunch;
   }
 
-  // Lateral branches, phyllotactic azimuths, shorter down the bunch.
+ private:
   struct Carrier {
     int stem;
     double t0, t1;  // usable interval along the stem, m from its start
   };
-  std::vector<Carrier> carriers;
-  const double phi0 = rng.uniform(0, 2 * M_PI);
-  int branches = 0;
-  for (int k = 0; k < nb; ++k) {
-    const double s = nb > 1 ? static_cast<double>(k) / (nb - 1) : 0.0;
-    const double len = (p.branch_length_top + (p.branch_length_bottom - p.branch_length_top) * s) *
-                       branch_scale * rng.uniform(0.9, 1.1);
-    const Vec3 a(0, 0, -heights[k]);
-    // A branch that would touch another stem is drawn again, then left out.
-    for (int attempt = 0; attempt < 8; ++attempt) {
-      const double phi = phi0 + k * 137.508 * kDeg + rng.uniform(-15, 15) * kDeg + attempt * 0.9;
-      const double alpha = (p.branch_angle + rng.uniform(-5, 5) + 2 * attempt) * kDeg;
-      const Vec3 d(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), -std::cos(alpha));
-      Stem br{a, a + len * d, p.branch_radius, Part::Rachis};
-      br.parent = segment[k];
-      bool clear = true;
-      for (int j = 0; j < static_cast<int>(bunch.stems.size()) && clear; ++j) {
-        const Stem& o = bunch.stems[j];
-        clear = j == br.parent ||
-                segment_segment_distance(br.start, br.end, o.start, o.end) >= br.radius + o.radius;
-      }
-      if (!clear) continue;
-      const int idx = static_cast<int>(bunch.stems.size());
-      bunch.stems.push_back(br);
-      ++branches;
-      const double reach_out = (bunch.stems[segment[k]].radius + p.pedicel_radius) / std::sin(alpha) +
-                               2 * p.pedicel_radius;
-      const double t0 = std::max(0.3 * len, reach_out), t1 = len - 1.5 * p.pedicel_radius;
-      if (t1 > t0) carriers.push_back({idx, t0, t1});
-      break;
+  static constexpr double min_pedicel_angle = 35 * kDeg;
+
+  std::size_t n() const { return seeds.size(); }
+
+  // Bunches with more berries are bigger: the rachis length follows the berry count's
+  // quantile (with noise) and the branches scale with it.
+  void draw_size() {
+    requested = rng.uniform_int(p.berry_count_min, p.berry_count_max);
+    const double count_quantile =
+        p.berry_count_max > p.berry_count_min
+            ? static_cast<double>(requested - p.berry_count_min) / (p.berry_count_max - p.berry_count_min)
+            : 0.5;
+    const double size = std::clamp(count_quantile + rng.uniform(-0.1, 0.1), 0.0, 1.0);
+    L = p.rachis_length_min + size * (p.rachis_length_max - p.rachis_length_min);
+    branch_scale = 0.85 + 0.3 * size;
+  }
+
+  // The peduncle: the rachis top J = origin lies on its axis.
+  void add_peduncle() {
+    // Peduncle: the rachis top J = origin lies on its axis, `stub` above its lower end,
+    // so the rachis's first segment starts strictly inside it.
+    const double tilt = p.peduncle_angle * kDeg, azimuth = rng.uniform(0, 2 * M_PI);
+    const Vec3 up(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth), std::cos(tilt));
+    const double stub = p.rachis_radius_top;
+    bunch.top = Vec3::Zero();
+    bunch.peduncle_direction = up;
+    bunch.cutting_point = p.cutting_point_fraction * p.peduncle_length * up;
+    bunch.stems.push_back({-stub * up, p.peduncle_length * up, p.peduncle_radius, Part::Peduncle});
+    bunch.peduncle = 0;
+  }
+
+  // Branch heights and the rachis segments.
+  void add_rachis() {
+    // Branch heights below J, jittered around a regular spacing.
+    for (double h = p.rachis_bare_length; h <= L - p.branch_spacing; h += p.branch_spacing) {
+      heights.push_back(h + rng.uniform(-0.1, 0.1) * p.branch_spacing);
+    }
+    if (heights.empty()) heights.push_back(0.5 * (p.rachis_bare_length + L));
+    nb = static_cast<int>(heights.size());
+
+    // Rachis: one segment per branch, boundaries halfway between branches, radius
+    // tapering linearly with depth; segment 0 is the peduncle's child, the others are
+    // stacked coaxially on their predecessor.
+    segment.assign(nb, 0);
+    for (int k = 0; k < nb; ++k) {
+      const double z0 = k == 0 ? 0.0 : 0.5 * (heights[k - 1] + heights[k]);
+      const double z1 = k + 1 == nb ? L : 0.5 * (heights[k] + heights[k + 1]);
+      const double frac = 0.5 * (z0 + z1) / L;
+      const double r = p.rachis_radius_top + (p.rachis_radius_bottom - p.rachis_radius_top) * frac;
+      Stem s{Vec3(0, 0, -z0), Vec3(0, 0, -z1), r, Part::Rachis};
+      if (k == 0)
+        s.parent = bunch.peduncle;
+      else
+        s.stacked_on = segment[k - 1];
+      segment[k] = static_cast<int>(bunch.stems.size());
+      bunch.stems.push_back(s);
     }
   }
+
+  // Lateral branches and their berry carriers.
+  void add_branches() {
+    // Lateral branches, phyllotactic azimuths, shorter down the bunch.
+    const double phi0 = rng.uniform(0, 2 * M_PI);
+    for (int k = 0; k < nb; ++k) {
+      const double s = nb > 1 ? static_cast<double>(k) / (nb - 1) : 0.0;
+      const double len = (p.branch_length_top + (p.branch_length_bottom - p.branch_length_top) * s) * branch_scale *
+                         rng.uniform(0.9, 1.1);
+      const Vec3 a(0, 0, -heights[k]);
+      // A branch that would touch another stem is drawn again, then left out.
+      for (int attempt = 0; attempt < 8; ++attempt) {
+        const double phi = phi0 + k * 137.508 * kDeg + rng.uniform(-15, 15) * kDeg + attempt * 0.9;
+        const double alpha = (p.branch_angle + rng.uniform(-5, 5) + 2 * attempt) * kDeg;
+        const Vec3 d(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), -std::cos(alpha));
+        Stem br{a, a + len * d, p.branch_radius, Part::Rachis};
+        br.parent = segment[k];
+        bool clear = true;
+        for (int j = 0; j < static_cast<int>(bunch.stems.size()) && clear; ++j) {
+          const Stem& o = bunch.stems[j];
+          clear = j == br.parent || segment_segment_distance(br.start, br.end, o.start, o.end) >= br.radius + o.radius;
+        }
+        if (!clear) continue;
+        const int idx = static_cast<int>(bunch.stems.size());
+        bunch.stems.push_back(br);
+        ++branches;
+        const double reach_out =
+            (bunch.stems[segment[k]].radius + p.pedicel_radius) / std::sin(alpha) + 2 * p.pedicel_radius;
+        const double t0 = std::max(0.3 * len, reach_out), t1 = len - 1.5 * p.pedicel_radius;
+        if (t1 > t0) carriers.push_back({idx, t0, t1});
+        break;
+      }
+    }
+  }
+
   // The rachis tip carries berries too.
-  {
+  void add_tip_carrier() {
     const Stem& last = bunch.stems[segment[nb - 1]];
     const double seg_len = (last.end - last.start).norm();
     const double t1 = seg_len - 1.5 * p.pedicel_radius;
@@ -158,65 +199,121 @@ Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport*
     if (t1 > t0) carriers.push_back({segment[nb - 1], t0, t1});
   }
 
-  // Berries per carrier in proportion to usable length (largest remainder).
-  std::vector<double> weight;
-  for (const auto& c : carriers) weight.push_back(c.t1 - c.t0);
-  const double wsum = std::accumulate(weight.begin(), weight.end(), 0.0);
-  std::vector<int> count(carriers.size());
-  std::vector<std::pair<double, int>> remainder;
-  int assigned = 0;
-  for (std::size_t c = 0; c < carriers.size(); ++c) {
-    const double exact = requested * weight[c] / wsum;
-    count[c] = static_cast<int>(std::floor(exact));
-    assigned += count[c];
-    remainder.emplace_back(-(exact - count[c]), static_cast<int>(c));
-  }
-  std::sort(remainder.begin(), remainder.end());
-  for (int k = 0; assigned < requested; ++k, ++assigned) ++count[remainder[k % remainder.size()].second];
+  // Berries per carrier, placed along it, with radius, pedicel and colour.
+  void seed_berries() {
+    // Berries per carrier in proportion to usable length (largest remainder).
+    std::vector<double> weight;
+    for (const auto& c : carriers) weight.push_back(c.t1 - c.t0);
+    const double wsum = std::accumulate(weight.begin(), weight.end(), 0.0);
+    std::vector<int> count(carriers.size());
+    std::vector<std::pair<double, int>> remainder;
+    int assigned = 0;
+    for (std::size_t c = 0; c < carriers.size(); ++c) {
+      const double exact = requested * weight[c] / wsum;
+      count[c] = static_cast<int>(std::floor(exact));
+      assigned += count[c];
+      remainder.emplace_back(-(exact - count[c]), static_cast<int>(c));
+    }
+    std::sort(remainder.begin(), remainder.end());
+    for (int k = 0; assigned < requested; ++k, ++assigned) ++count[remainder[k % remainder.size()].second];
 
-  const double min_pedicel_angle = 35 * kDeg;
-  std::vector<Seedling> seeds;
-  for (std::size_t c = 0; c < carriers.size(); ++c) {
-    const Stem& carrier = bunch.stems[carriers[c].stem];
-    const Vec3 axis = (carrier.end - carrier.start).normalized();
-    for (int k = 0; k < count[c]; ++k) {
-      const double u = (k + 0.5 + rng.uniform(-0.1, 0.1)) / count[c];
-      const double t = carriers[c].t0 + u * (carriers[c].t1 - carriers[c].t0);
-      Seedling s;
-      s.carrier = carriers[c].stem;
-      s.anchor = carrier.start + t * axis;
-      s.radius = std::clamp(rng.normal(p.berry_radius_mean, p.berry_radius_sd), p.berry_radius_min,
-                            p.berry_radius_max);
-      const double ped = std::max(0.4 * p.pedicel_length_mean,
-                                  rng.normal(p.pedicel_length_mean, p.pedicel_length_sd));
-      s.reach = ped + s.radius;
-      s.reach_max = p.pedicel_stretch * ped + s.radius;
-      Vec3 radial(s.anchor.x(), s.anchor.y(), 0);
-      radial = radial.squaredNorm() > 1e-12 ? radial.normalized() : Vec3(axis.x(), axis.y(), 0);
-      const Vec3 jitter(rng.normal(), rng.normal(), rng.normal());
-      Vec3 dir = radial + 0.4 * axis + 0.8 * jitter.normalized() + Vec3(0, 0, -0.3);
-      if (dir.squaredNorm() < 1e-12) dir = Vec3(0, 0, -1);
-      s.centre = s.anchor + s.reach * dir.normalized();
-      enforce_rod(s, axis, min_pedicel_angle);
-      const double shade = rng.normal(0, p.colour_variation);
-      s.colour = {clamp01(p.berry_colour.r * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation)),
-                  clamp01(p.berry_colour.g * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation)),
-                  clamp01(p.berry_colour.b * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation))};
-      seeds.push_back(s);
+    for (std::size_t c = 0; c < carriers.size(); ++c) {
+      const Stem& carrier = bunch.stems[carriers[c].stem];
+      const Vec3 axis = (carrier.end - carrier.start).normalized();
+      for (int k = 0; k < count[c]; ++k) {
+        const double u = (k + 0.5 + rng.uniform(-0.1, 0.1)) / count[c];
+        const double t = carriers[c].t0 + u * (carriers[c].t1 - carriers[c].t0);
+        Seedling s;
+        s.carrier = carriers[c].stem;
+        s.anchor = carrier.start + t * axis;
+        s.radius =
+            std::clamp(rng.normal(p.berry_radius_mean, p.berry_radius_sd), p.berry_radius_min, p.berry_radius_max);
+        const double ped =
+            std::max(0.4 * p.pedicel_length_mean, rng.normal(p.pedicel_length_mean, p.pedicel_length_sd));
+        s.reach = ped + s.radius;
+        s.reach_max = p.pedicel_stretch * ped + s.radius;
+        Vec3 radial(s.anchor.x(), s.anchor.y(), 0);
+        radial = radial.squaredNorm() > 1e-12 ? radial.normalized() : Vec3(axis.x(), axis.y(), 0);
+        const Vec3 jitter(rng.normal(), rng.normal(), rng.normal());
+        Vec3 dir = radial + 0.4 * axis + 0.8 * jitter.normalized() + Vec3(0, 0, -0.3);
+        if (dir.squaredNorm() < 1e-12) dir = Vec3(0, 0, -1);
+        s.centre = s.anchor + s.reach * dir.normalized();
+        enforce_rod(s, axis, min_pedicel_angle);
+        const double shade = rng.normal(0, p.colour_variation);
+        s.colour = {clamp01(p.berry_colour.r * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation)),
+                    clamp01(p.berry_colour.g * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation)),
+                    clamp01(p.berry_colour.b * (1 + shade) + rng.normal(0, 0.25 * p.colour_variation))};
+        seeds.push_back(s);
+      }
     }
   }
 
   // Packing relaxation (position-based dynamics, Gauss-Seidel, fixed order).
-  const double press = p.compactness * p.max_press_depth;
-  const double clearance = 0.1 * p.pedicel_radius;
-  const std::size_t n = seeds.size();
-  std::vector<Vec3> carrier_axis(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Stem& c = bunch.stems[seeds[i].carrier];
-    carrier_axis[i] = (c.end - c.start).normalized();
+  void relax() {
+    carrier_axis.resize(n());
+    for (std::size_t i = 0; i < n(); ++i) {
+      const Stem& c = bunch.stems[seeds[i].carrier];
+      carrier_axis[i] = (c.end - c.start).normalized();
+    }
+    skeleton = bunch.stems.size();  // peduncle, rachis, branches
+    const int total_iterations = p.relax_iterations + (p.relax_iterations > 0 ? 100 : 0);
+    for (int it = 0; it < total_iterations; ++it) {
+      const bool settle = it >= p.relax_iterations;  // last steps: constraints only
+      for (std::size_t i = 0; i < n(); ++i) relax_berry(i, it, settle);
+    }
   }
-  const std::size_t skeleton = bunch.stems.size();  // peduncle, rachis, branches
-  auto push_from_segment = [&](Seedling& s, const Vec3& a, const Vec3& b, double need) {
+
+  // One berry's step of the relaxation: pull, berry contacts, stems, other pedicels,
+  // then its own pedicel's rod constraint.
+  void relax_berry(std::size_t i, int it, bool settle) {
+    Seedling& s = seeds[i];
+    if (!settle) {
+      // Forces fade out so the packing ends in equilibrium.
+      const double fade = 1.0 - static_cast<double>(it) / p.relax_iterations;
+      const double pull = 0.015 * p.compactness * fade;
+      s.centre.x() -= pull * s.centre.x();
+      s.centre.y() -= pull * s.centre.y();
+      s.centre.z() -= 0.03 * s.radius * (1.0 - 0.5 * p.compactness) * fade;
+    }
+    for (std::size_t j = i + 1; j < n(); ++j) {
+      Seedling& o = seeds[j];
+      const double dmin = s.radius + o.radius - press * std::min(s.radius, o.radius);
+      Vec3 delta = o.centre - s.centre;
+      const double d2 = delta.squaredNorm();
+      if (d2 >= dmin * dmin) continue;
+      double dist = std::sqrt(d2);
+      if (dist < 1e-12) {
+        delta = Vec3(0, 0, 1);
+        dist = 1e-12;
+      }
+      const Vec3 shift = 0.5 * (dmin - dist) / dist * delta;
+      s.centre -= shift;
+      o.centre += shift;
+    }
+    for (std::size_t k = 0; k < skeleton; ++k) {
+      const Stem& st = bunch.stems[k];
+      push_from_segment(s, st.start, st.end, s.radius + st.radius + clearance);
+    }
+    // A berry against another berry's pedicel: both give way; the pedicel turns
+    // about its anchor, so its berry moves by the push over the lever arm.
+    for (std::size_t j = 0; j < n(); ++j) {
+      if (j == i) continue;
+      Seedling& o = seeds[j];
+      if ((o.anchor - s.centre).norm() > o.reach_max + s.radius + p.pedicel_radius) continue;
+      const Vec3 a = o.anchor, b = pedicel_end(o), ab = b - a;
+      const double t = std::clamp((s.centre - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      const Vec3 q = a + t * ab;
+      const Vec3 off = s.centre - q;
+      const double dist = off.norm(), need = s.radius + p.pedicel_radius + clearance;
+      if (dist >= need || dist < 1e-12) continue;
+      const Vec3 push = (need - dist) * off / dist;
+      s.centre += 0.5 * push;
+      if (t > 0.05) o.centre -= 0.5 * push / t;
+    }
+    enforce_rod(s, carrier_axis[i], min_pedicel_angle, settle ? 0.0 : 0.05);
+  }
+
+  void push_from_segment(Seedling& s, const Vec3& a, const Vec3& b, double need) const {
     const Vec3 ab = b - a;
     const double t = std::clamp((s.centre - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
     const Vec3 q = a + t * ab;
@@ -225,129 +322,84 @@ Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport*
     if (dist >= need) return;
     if (dist < 1e-12) off = Vec3(0, 0, -1);
     s.centre = q + need * off.normalized();
-  };
-  const int total_iterations = p.relax_iterations + (p.relax_iterations > 0 ? 100 : 0);
-  for (int it = 0; it < total_iterations; ++it) {
-    const bool settle = it >= p.relax_iterations;  // last steps: constraints only
-    for (std::size_t i = 0; i < n; ++i) {
-      Seedling& s = seeds[i];
-      if (!settle) {
-        // Forces fade out so the packing ends in equilibrium.
-        const double fade = 1.0 - static_cast<double>(it) / p.relax_iterations;
-        const double pull = 0.015 * p.compactness * fade;
-        s.centre.x() -= pull * s.centre.x();
-        s.centre.y() -= pull * s.centre.y();
-        s.centre.z() -= 0.03 * s.radius * (1.0 - 0.5 * p.compactness) * fade;
-      }
-      for (std::size_t j = i + 1; j < n; ++j) {
-        Seedling& o = seeds[j];
-        const double dmin = s.radius + o.radius - press * std::min(s.radius, o.radius);
-        Vec3 delta = o.centre - s.centre;
-        const double d2 = delta.squaredNorm();
-        if (d2 >= dmin * dmin) continue;
-        double dist = std::sqrt(d2);
-        if (dist < 1e-12) {
-          delta = Vec3(0, 0, 1);
-          dist = 1e-12;
-        }
-        const Vec3 shift = 0.5 * (dmin - dist) / dist * delta;
-        s.centre -= shift;
-        o.centre += shift;
-      }
-      for (std::size_t k = 0; k < skeleton; ++k) {
-        const Stem& st = bunch.stems[k];
-        push_from_segment(s, st.start, st.end, s.radius + st.radius + clearance);
-      }
-      // A berry against another berry's pedicel: both give way; the pedicel turns
-      // about its anchor, so its berry moves by the push over the lever arm.
-      for (std::size_t j = 0; j < n; ++j) {
-        if (j == i) continue;
-        Seedling& o = seeds[j];
-        if ((o.anchor - s.centre).norm() > o.reach_max + s.radius + p.pedicel_radius) continue;
-        const Vec3 a = o.anchor, b = pedicel_end(o), ab = b - a;
-        const double t = std::clamp((s.centre - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-        const Vec3 q = a + t * ab;
-        const Vec3 off = s.centre - q;
-        const double dist = off.norm(), need = s.radius + p.pedicel_radius + clearance;
-        if (dist >= need || dist < 1e-12) continue;
-        const Vec3 push = (need - dist) * off / dist;
-        s.centre += 0.5 * push;
-        if (t > 0.05) o.centre -= 0.5 * push / t;
-      }
-      enforce_rod(s, carrier_axis[i], min_pedicel_angle, settle ? 0.0 : 0.05);
-    }
   }
 
   // Remove what the packing left in a contact the exact volume does not allow.
-  auto pedicel_clear_of = [&](const Seedling& a, const Seedling& b) {
-    return segment_segment_distance(a.anchor, pedicel_end(a), b.anchor, pedicel_end(b)) >=
-           2 * p.pedicel_radius;
-  };
-  int removed = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    Seedling& s = seeds[i];
-    bool bad = false;
-    for (std::size_t k = 0; k < skeleton && !bad; ++k) {
-      const Stem& st = bunch.stems[k];
-      bad = point_segment_distance(s.centre, st.start, st.end) < s.radius + st.radius;
-      // The pedicel may only meet its carrier.
-      if (!bad && static_cast<int>(k) != s.carrier) {
-        bad = segment_segment_distance(s.anchor, pedicel_end(s), st.start, st.end) <
-              p.pedicel_radius + st.radius;
+  void remove_bad_contacts() {
+    const auto pedicel_clear_of = [&](const Seedling& a, const Seedling& b) {
+      return segment_segment_distance(a.anchor, pedicel_end(a), b.anchor, pedicel_end(b)) >= 2 * p.pedicel_radius;
+    };
+    for (std::size_t i = 0; i < n(); ++i) {
+      Seedling& s = seeds[i];
+      bool bad = false;
+      for (std::size_t k = 0; k < skeleton && !bad; ++k) {
+        const Stem& st = bunch.stems[k];
+        bad = point_segment_distance(s.centre, st.start, st.end) < s.radius + st.radius;
+        // The pedicel may only meet its carrier.
+        if (!bad && static_cast<int>(k) != s.carrier) {
+          bad = segment_segment_distance(s.anchor, pedicel_end(s), st.start, st.end) < p.pedicel_radius + st.radius;
+        }
+      }
+      // Pressed further than allowed, or touching another kept berry's pedicel.
+      for (std::size_t j = 0; j < i && !bad; ++j) {
+        const Seedling& o = seeds[j];
+        if (!o.alive) continue;
+        const double depth = s.radius + o.radius - (s.centre - o.centre).norm();
+        bad = depth > press * std::min(s.radius, o.radius) * (1 + 1e-6) + 1e-12 ||
+              point_segment_distance(s.centre, o.anchor, pedicel_end(o)) < s.radius + p.pedicel_radius ||
+              point_segment_distance(o.centre, s.anchor, pedicel_end(s)) < o.radius + p.pedicel_radius ||
+              !pedicel_clear_of(s, o);
+      }
+      if (bad) {
+        s.alive = false;
+        ++removed;
       }
     }
-    // Pressed further than allowed, or touching another kept berry's pedicel.
-    for (std::size_t j = 0; j < i && !bad; ++j) {
-      const Seedling& o = seeds[j];
-      if (!o.alive) continue;
-      const double depth = s.radius + o.radius - (s.centre - o.centre).norm();
-      bad = depth > press * std::min(s.radius, o.radius) * (1 + 1e-6) + 1e-12 ||
-            point_segment_distance(s.centre, o.anchor, pedicel_end(o)) < s.radius + p.pedicel_radius ||
-            point_segment_distance(o.centre, s.anchor, pedicel_end(s)) < o.radius + p.pedicel_radius ||
-            !pedicel_clear_of(s, o);
-    }
-    if (bad) {
-      s.alive = false;
-      ++removed;
+  }
+
+  // The kept berries, each on its pedicel.
+  void attach_berries() {
+    for (const auto& s : seeds) {
+      if (!s.alive) continue;
+      Berry b;
+      b.centre = s.centre;
+      b.radius = s.radius;
+      b.colour = s.colour;
+      b.pedicel = static_cast<int>(bunch.stems.size());
+      Stem ped{s.anchor, pedicel_end(s), p.pedicel_radius, Part::Pedicel};
+      ped.parent = s.carrier;
+      ped.berry = static_cast<int>(bunch.berries.size());
+      bunch.stems.push_back(ped);
+      bunch.berries.push_back(b);
     }
   }
 
-  for (const auto& s : seeds) {
-    if (!s.alive) continue;
-    Berry b;
-    b.centre = s.centre;
-    b.radius = s.radius;
-    b.colour = s.colour;
-    b.pedicel = static_cast<int>(bunch.stems.size());
-    Stem ped{s.anchor, pedicel_end(s), p.pedicel_radius, Part::Pedicel};
-    ped.parent = s.carrier;
-    ped.berry = static_cast<int>(bunch.berries.size());
-    bunch.stems.push_back(ped);
-    bunch.berries.push_back(b);
-  }
+  const BunchParams& p;
+  Rng rng;
+  Bunch bunch;
+  int requested = 0, nb = 0, branches = 0, removed = 0;
+  double L = 0, branch_scale = 1;
+  const double press = p.compactness * p.max_press_depth;
+  const double clearance = 0.1 * p.pedicel_radius;
+  std::vector<double> heights;
+  std::vector<int> segment;  // rachis segment per branch
+  std::vector<Carrier> carriers;
+  std::vector<Seedling> seeds;
+  std::vector<Vec3> carrier_axis;  // per seed, its carrier's unit axis
+  std::size_t skeleton = 0;        // stems before the pedicels: peduncle, rachis, branches
+};
 
-  const auto problems = check_bunch(bunch);
-  if (!problems.empty()) {
-    std::string msg = "bunch parameters give an invalid skeleton: ";
-    msg.append(problems.front());
-    msg.append(" (try a larger branch_spacing or rachis_bare_length, or thinner stems)");
-    throw InputError(msg);
-  }
-  if (report) {
-    report->berries_requested = requested;
-    report->berries_removed = removed;
-    report->rachis_length = L;
-    report->branches = branches;
-  }
-  return bunch;
+}  // namespace
+
+Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport* report) {
+  validate_bunch_params(p, "bunch parameters");
+  return BunchBuilder(p, seed).build(report);
 }
 
 std::vector<std::string> check_bunch(const Bunch& b) {
   std::vector<std::string> out;
   const int ns = static_cast<int>(b.stems.size());
-  auto name = [&](int i) {
-    return std::string(part_name(b.stems[i].part)) + " stem " + std::to_string(i);
-  };
+  auto name = [&](int i) { return std::string(part_name(b.stems[i].part)) + " stem " + std::to_string(i); };
   for (int j = 0; j < ns; ++j) {
     const Stem& c = b.stems[j];
     if (c.parent >= 0) {
@@ -386,8 +438,8 @@ std::vector<std::string> check_bunch(const Bunch& b) {
           if (s.berry != k) throw InputError("pedicel does not name its berry");
           pedicel_in_berry_volume(s, be);
         } catch (const InputError&) {
-          out.push_back("pedicel " + std::to_string(i) + " does not enter berry " +
-                        std::to_string(k) + " as the volume formula requires");
+          out.push_back("pedicel " + std::to_string(i) + " does not enter berry " + std::to_string(k) +
+                        " as the volume formula requires");
         }
         continue;
       }
@@ -413,14 +465,22 @@ double max_press_ratio(const Bunch& b) {
 
 std::string_view part_name(Part p) {
   switch (p) {
-    case Part::Berry: return "berry";
-    case Part::Pedicel: return "pedicel";
-    case Part::Rachis: return "rachis";
-    case Part::Peduncle: return "peduncle";
-    case Part::Background: return "background";
-    case Part::Leaf: return "leaf";
-    case Part::Cane: return "cane";
-    case Part::None: return "none";
+    case Part::Berry:
+      return "berry";
+    case Part::Pedicel:
+      return "pedicel";
+    case Part::Rachis:
+      return "rachis";
+    case Part::Peduncle:
+      return "peduncle";
+    case Part::Background:
+      return "background";
+    case Part::Leaf:
+      return "leaf";
+    case Part::Cane:
+      return "cane";
+    case Part::None:
+      return "none";
   }
   return "unknown";
 }
