@@ -378,102 +378,123 @@ void sweep_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::
   }
 }
 
-// Seed 003: Table II and Figs. 8-9 from the size-error cells.
-void size_error_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+// Seed 003's ROI kinds, in table order.
+const std::vector<std::string> kRoiKinds = {"auto_r", "auto_cm", "manual_r", "manual_cm"};
+
+// The estimators of the pooled size-error cells, in order.
+std::vector<std::string> size_error_estimators(const std::vector<SizeErrorCell>& cells) {
+  std::vector<std::string> ests;
+  for (const auto& c : cells) {
+    if (c.condition == -1 && std::find(ests.begin(), ests.end(), c.estimator) == ests.end()) ests.push_back(c.estimator);
+  }
+  return ests;
+}
+
+const SizeErrorCell* find_cell(const std::vector<SizeErrorCell>& cells, const std::string& e, const std::string& k,
+                               int cond) {
+  for (const auto& c : cells) {
+    if (c.estimator == e && c.roi == k && c.condition == cond) return &c;
+  }
+  return nullptr;
+}
+
+// Seed 003's Table II: Err (Eq. 3) per estimator and ROI kind, all conditions pooled.
+void size_error_table(const ReportContext& ctx, std::ostringstream& h) {
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
-  if (!size_cells.empty()) {
-    // Seed 003's Table II: Err (Eq. 3) per estimator and ROI kind, all conditions pooled.
-    const std::vector<std::string> kinds = {"auto_r", "auto_cm", "manual_r", "manual_cm"};
-    std::vector<std::string> ests;
-    for (const auto& c : size_cells) {
-      if (c.condition == -1 && std::find(ests.begin(), ests.end(), c.estimator) == ests.end()) ests.push_back(c.estimator);
-    }
-    const auto find = [&](const std::string& e, const std::string& k, int cond) -> const SizeErrorCell* {
-      for (const auto& c : size_cells) {
-        if (c.estimator == e && c.roi == k && c.condition == cond) return &c;
-      }
-      return nullptr;
-    };
-    h << "<h2>Size error (seed 003 Table II)</h2>\n<p>Err = 0.5 |G1 - L| + 0.5 |G2 - W| (Eq. 3; measures and truths "
-         "larger first), cm, mean +- sd over the fine-tuned ROIs (count); Filter keeps Err &lt; 10 cm. All conditions "
-         "pooled; precision is the mean fraction of a tuned ROI on the bunch. Per condition: size_error.csv.</p>\n"
-         "<table><tr><th class=l>estimator</th><th class=l></th>";
-    for (const auto& k : kinds) h << "<th>" << k << "</th>";
-    h << "</tr>\n";
-    for (const auto& e : ests) {
-      for (int f = 0; f < 3; ++f) {
-        h << "<tr><td class=l>" << (f ? "" : esc(e)) << "</td><td class=l>" << (f == 0 ? "All" : f == 1 ? "Filter" : "precision")
-          << "</td>";
-        for (const auto& k : kinds) {
-          const SizeErrorCell* c = find(e, k, -1);
-          if (!c || c->regions == 0) {
-            h << "<td>-</td>";
-          } else if (f < 2) {
-            h << "<td>" << size_error_entry(*c, f == 1) << "</td>";
-          } else {
-            h << "<td>" << fmt(c->precision_mean, 3) << "</td>";
-          }
-        }
-        h << "</tr>\n";
-      }
-    }
-    h << "</table>\n";
-    // Figs. 8-9: Err of the paper's analysed variant (G_E on manual ROI_R, unfiltered)
-    // by the values of one swept axis, one series per value of another, pooling the rest.
-    std::string est = ests.front(), roi = "manual_r";
-    for (const auto& spec : set.base.estimators) {
-      if (spec.type == "percentile_box_edges" && std::find(ests.begin(), ests.end(), spec.name) != ests.end()) est = spec.name;
-    }
-    if (!find(est, roi, -1)) roi = find(est, "auto_r", -1) ? "auto_r" : kinds.front();
-    const auto axis_value = [&](std::size_t a, int cond) {
-      const auto& ax = set.base.sweep[a];
-      const double v = set.conditions[static_cast<std::size_t>(cond)].values[a];
-      return ax.names.empty() ? fmt(v, 3) : ax.names[static_cast<std::size_t>(v)];
-    };
-    const std::size_t axes = set.base.sweep.size();
-    if (axes > 0) {
-      h << "<h2>Size error by condition (seed 003 Figs. 8-9)</h2>\n<p>" << esc(est) << " on " << esc(roi)
-        << ", unfiltered, cm; bars: mean, whiskers: +- sd, pooled over the other axes.</p>\n<div class=plots>\n";
-      for (std::size_t a = 0; a < axes; ++a) {
-        for (std::size_t b = 0; b < axes; ++b) {
-          if (b == a && axes > 1) continue;  // one axis alone: a single series
-          const auto series_of = [&](int c) { return b == a ? std::string("all") : axis_value(b, c); };
-          std::vector<std::string> groups, series;
-          for (std::size_t c = 0; c < set.conditions.size(); ++c) {
-            const std::string ga = axis_value(a, static_cast<int>(c)), sb = series_of(static_cast<int>(c));
-            if (std::find(groups.begin(), groups.end(), ga) == groups.end()) groups.push_back(ga);
-            if (std::find(series.begin(), series.end(), sb) == series.end()) series.push_back(sb);
-          }
-          std::vector<std::vector<double>> n(series.size(), std::vector<double>(groups.size(), 0)), sum = n, sq = n;
-          for (std::size_t c = 0; c < set.conditions.size(); ++c) {
-            const SizeErrorCell* cell = find(est, roi, static_cast<int>(c));
-            if (!cell || cell->regions == 0) continue;
-            const auto gi = static_cast<std::size_t>(std::find(groups.begin(), groups.end(), axis_value(a, static_cast<int>(c))) - groups.begin());
-            const auto si = static_cast<std::size_t>(std::find(series.begin(), series.end(), series_of(static_cast<int>(c))) - series.begin());
-            const double k = cell->regions, m = 100 * cell->mean, sd = 100 * cell->sd;
-            n[si][gi] += k;
-            sum[si][gi] += k * m;
-            sq[si][gi] += (k - 1) * sd * sd + k * m * m;  // sum of squares, from the cell's mean and sd
-          }
-          std::vector<std::vector<double>> mean = n, sdv = n;
-          for (std::size_t i = 0; i < series.size(); ++i) {
-            for (std::size_t g = 0; g < groups.size(); ++g) {
-              const double k = n[i][g];
-              mean[i][g] = k > 0 ? sum[i][g] / k : std::nan("");
-              sdv[i][g] = k > 1 ? std::sqrt(std::max(0.0, (sq[i][g] - k * mean[i][g] * mean[i][g]) / (k - 1))) : std::nan("");
-            }
-          }
-          const std::string& ka = set.base.sweep[a].key;
-          const std::string& kb = set.base.sweep[b].key;
-          const std::string title = b == a ? "Err by " + ka : "Err by " + ka + " and " + kb;
-          const std::string svg = grouped_bars(title, "Err, cm", groups, series, mean, sdv);
-          rep.svgs["size_error_" + file_name(ka) + (b == a ? "" : "_by_" + file_name(kb)) + ".svg"] = svg;
-          h << svg;
+  const auto ests = size_error_estimators(size_cells);
+  const auto find = [&](const std::string& e, const std::string& k, int cond) { return find_cell(size_cells, e, k, cond); };
+  h << "<h2>Size error (seed 003 Table II)</h2>\n<p>Err = 0.5 |G1 - L| + 0.5 |G2 - W| (Eq. 3; measures and truths "
+       "larger first), cm, mean +- sd over the fine-tuned ROIs (count); Filter keeps Err &lt; 10 cm. All conditions "
+       "pooled; precision is the mean fraction of a tuned ROI on the bunch. Per condition: size_error.csv.</p>\n"
+       "<table><tr><th class=l>estimator</th><th class=l></th>";
+  for (const auto& k : kRoiKinds) h << "<th>" << k << "</th>";
+  h << "</tr>\n";
+  for (const auto& e : ests) {
+    for (int f = 0; f < 3; ++f) {
+      h << "<tr><td class=l>" << (f ? "" : esc(e)) << "</td><td class=l>" << (f == 0 ? "All" : f == 1 ? "Filter" : "precision")
+        << "</td>";
+      for (const auto& k : kRoiKinds) {
+        const SizeErrorCell* c = find(e, k, -1);
+        if (!c || c->regions == 0) {
+          h << "<td>-</td>";
+        } else if (f < 2) {
+          h << "<td>" << size_error_entry(*c, f == 1) << "</td>";
+        } else {
+          h << "<td>" << fmt(c->precision_mean, 3) << "</td>";
         }
       }
-      h << "</div>\n";
+      h << "</tr>\n";
     }
   }
+  h << "</table>\n";
+}
+
+// Figs. 8-9: Err of the paper's analysed variant (G_E on manual ROI_R, unfiltered) by
+// the values of one swept axis, one series per value of another, pooling the rest.
+void size_error_figures(const ReportContext& ctx, Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
+  const auto ests = size_error_estimators(size_cells);
+  const auto find = [&](const std::string& e, const std::string& k, int cond) { return find_cell(size_cells, e, k, cond); };
+  std::string est = ests.front(), roi = "manual_r";
+  for (const auto& spec : set.base.estimators) {
+    if (spec.type == "percentile_box_edges" && std::find(ests.begin(), ests.end(), spec.name) != ests.end()) est = spec.name;
+  }
+  if (!find(est, roi, -1)) roi = find(est, "auto_r", -1) ? "auto_r" : kRoiKinds.front();
+  const auto axis_value = [&](std::size_t a, int cond) {
+    const auto& ax = set.base.sweep[a];
+    const double v = set.conditions[static_cast<std::size_t>(cond)].values[a];
+    return ax.names.empty() ? fmt(v, 3) : ax.names[static_cast<std::size_t>(v)];
+  };
+  const std::size_t axes = set.base.sweep.size();
+  if (axes > 0) {
+    h << "<h2>Size error by condition (seed 003 Figs. 8-9)</h2>\n<p>" << esc(est) << " on " << esc(roi)
+      << ", unfiltered, cm; bars: mean, whiskers: +- sd, pooled over the other axes.</p>\n<div class=plots>\n";
+    for (std::size_t a = 0; a < axes; ++a) {
+      for (std::size_t b = 0; b < axes; ++b) {
+        if (b == a && axes > 1) continue;  // one axis alone: a single series
+        const auto series_of = [&](int c) { return b == a ? std::string("all") : axis_value(b, c); };
+        std::vector<std::string> groups, series;
+        for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+          const std::string ga = axis_value(a, static_cast<int>(c)), sb = series_of(static_cast<int>(c));
+          if (std::find(groups.begin(), groups.end(), ga) == groups.end()) groups.push_back(ga);
+          if (std::find(series.begin(), series.end(), sb) == series.end()) series.push_back(sb);
+        }
+        std::vector<std::vector<double>> n(series.size(), std::vector<double>(groups.size(), 0)), sum = n, sq = n;
+        for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+          const SizeErrorCell* cell = find(est, roi, static_cast<int>(c));
+          if (!cell || cell->regions == 0) continue;
+          const auto gi = static_cast<std::size_t>(std::find(groups.begin(), groups.end(), axis_value(a, static_cast<int>(c))) - groups.begin());
+          const auto si = static_cast<std::size_t>(std::find(series.begin(), series.end(), series_of(static_cast<int>(c))) - series.begin());
+          const double k = cell->regions, m = 100 * cell->mean, sd = 100 * cell->sd;
+          n[si][gi] += k;
+          sum[si][gi] += k * m;
+          sq[si][gi] += (k - 1) * sd * sd + k * m * m;  // sum of squares, from the cell's mean and sd
+        }
+        std::vector<std::vector<double>> mean = n, sdv = n;
+        for (std::size_t i = 0; i < series.size(); ++i) {
+          for (std::size_t g = 0; g < groups.size(); ++g) {
+            const double k = n[i][g];
+            mean[i][g] = k > 0 ? sum[i][g] / k : std::nan("");
+            sdv[i][g] = k > 1 ? std::sqrt(std::max(0.0, (sq[i][g] - k * mean[i][g] * mean[i][g]) / (k - 1))) : std::nan("");
+          }
+        }
+        const std::string& ka = set.base.sweep[a].key;
+        const std::string& kb = set.base.sweep[b].key;
+        const std::string title = b == a ? "Err by " + ka : "Err by " + ka + " and " + kb;
+        const std::string svg = grouped_bars(title, "Err, cm", groups, series, mean, sdv);
+        rep.svgs["size_error_" + file_name(ka) + (b == a ? "" : "_by_" + file_name(kb)) + ".svg"] = svg;
+        h << svg;
+      }
+    }
+    h << "</div>\n";
+  }
+}
+
+// Seed 003: Table II and Figs. 8-9 from the size-error cells.
+void size_error_section(const ReportContext& ctx, Report& rep, std::ostringstream& h) {
+  if (ctx.size_cells.empty()) return;
+  size_error_table(ctx, h);
+  size_error_figures(ctx, rep, h);
 }
 
 // Time per estimator (all conditions pooled).
