@@ -126,7 +126,7 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
                    {"rotation_error_max_deg_mean", regs[c].rotation_max_deg_mean},
                    {"rotation_error_max_deg_worst", regs[c].rotation_max_deg_worst},
                    {"translation_error_max_mm_mean", regs[c].translation_max_mm_mean},
-                   {"segmentation", set.conditions[c].scene.pipeline.segmentation},
+                   {"segmentation", set.conditions[c].scene.pipeline.segmentation_name()},
                    {"segmentation_precision_mean", regs[c].segmentation_precision},
                    {"segmentation_recall_mean", regs[c].segmentation_recall},
                    {"peduncle_kept_mean", regs[c].peduncle_kept},

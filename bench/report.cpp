@@ -284,7 +284,7 @@ void pipeline_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, st
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
     const RegistrationRow& r = regs[c];
     const auto& pl = set.conditions[c].scene.pipeline;
-    h << "<tr><td class=l>" << esc(set.conditions[c].label) << "</td><td class=l>" << pl.segmentation;
+    h << "<tr><td class=l>" << esc(set.conditions[c].label) << "</td><td class=l>" << pl.segmentation_name();
     for (const auto& f : pl.view_filters) h << " + " << f.type;
     h << "</td><td>" << fmt(r.segmentation_precision) << "</td><td>" << fmt(r.segmentation_recall) << "</td><td class=l>"
       << registration_label(set.conditions[c].scene) << "</td><td>" << r.cases << "</td><td>" << fmt(r.rotation_max_deg_mean) << "</td><td>"

@@ -34,7 +34,8 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
   using P = PipelineSpec;
   static const ParamTable<P> table =
       ParamTable<P>()
-          .choice("segmentation", &P::segmentation, names({"labels", "none"}),
+          .choice("segmentation", &P::segmentation,
+                  {{"labels", P::Segmentation::Labels}, {"none", P::Segmentation::None}},
                   "labels: the returns on bunch parts (an oracle); none: every return, view_filters must find the "
                   "bunch (single_frame: none only)")
           .real("min_points", "count", &P::min_points, 4, 1e9, "a case with fewer bunch points fails")
@@ -53,7 +54,7 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
                    "fewer visible berry returns: no manual label")
           .when("protocol: single_frame", single_frame)
           .validate([](const P& p, const ConfigNode& n) {
-            if (single_frame(p) && p.segmentation != "none") {
+            if (single_frame(p) && p.segmentation != P::Segmentation::None) {
               n.fail("segmentation", "the single_frame protocol measures every return of a frame (seed 003): only none");
             }
             if (p.visibility_hull > 0 && p.visibility_hull < 1e-4) {
@@ -74,7 +75,7 @@ nlohmann::ordered_json PipelineSpec::describe() const {
 PipelineSpec pipeline_defaults(const std::string& protocol) {
   PipelineSpec p;
   p.protocol = protocol;
-  if (single_frame(p)) p.segmentation = "none";
+  if (single_frame(p)) p.segmentation = PipelineSpec::Segmentation::None;
   p.registration.run = registration_registry().make(p.registration.type, &p.registration.params);
   return p;
 }

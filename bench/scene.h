@@ -46,7 +46,9 @@ struct PipelineSpec {
   // labels: keep the returns whose ground-truth label is a bunch part (an oracle
   // segmentation, so registration and estimators are scored alone); none: keep every
   // return, so view_filters (pass_through, region_growing...) must find the bunch.
-  std::string segmentation = "labels";
+  enum class Segmentation { Labels, None };
+  Segmentation segmentation = Segmentation::Labels;
+  const char* segmentation_name() const { return segmentation == Segmentation::Labels ? "labels" : "none"; }
   std::vector<FilterSpec> view_filters;
   std::vector<FilterSpec> cloud_filters;
   // multi_view: a registered method (bench/protocols/registration_methods.h) with its

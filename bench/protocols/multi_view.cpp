@@ -43,7 +43,7 @@ SegmentedViews segment(const PipelineSpec& pl, const Scan& scan, CaseResult& r) 
     for (std::size_t i = 0; i < v.cloud.size(); ++i) {
       if (!v.cloud.valid[i]) continue;
       bunch_returns += is_bunch(v.cloud.label[i]);
-      if (pl.segmentation == "labels" && !is_bunch(v.cloud.label[i])) continue;
+      if (pl.segmentation == PipelineSpec::Segmentation::Labels && !is_bunch(v.cloud.label[i])) continue;
       pts.push_back(v.cloud.xyz[i].cast<double>());
       tags.push_back({v.cloud.label[i], k, i});
     }
