@@ -67,6 +67,18 @@ TEST(ExternalAnswer, QuantitiesMustBeFiniteAndInRangeAndOutputKindsWellFormed) {
   }
 }
 
+// Reproducer: a scene folder whose path holds "{scene_dir}" made the substitution
+// loop forever (each replacement brought the placeholder back).
+TEST(ExternalCommand, SceneDirPlaceholderInTheFolderNameIsReplacedOnce) {
+  std::vector<std::string> cmd = {"python3", "{scene_dir}/a.py", "--x={scene_dir}{scene_dir}"};
+  substitute_scene_dir(cmd, "/data/{scene_dir}");
+  EXPECT_EQ(cmd[1], "/data/{scene_dir}/a.py");
+  EXPECT_EQ(cmd[2], "--x=/data/{scene_dir}/data/{scene_dir}");
+  std::vector<std::string> here = {"{scene_dir}/b.py"};
+  substitute_scene_dir(here, "");
+  EXPECT_EQ(here[0], "./b.py");
+}
+
 TEST(ExternalProgram, PerRequestTimeoutAndFailureAreErrorsWithTheReason) {
   ExternalParams slow = shell("sleep 30");
   slow.timeout = 0.3;
