@@ -329,7 +329,25 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const std::vector<Command> commands = {synth_subcommand(app),  run_subcommand(app),           merge_subcommand(app),
                                          check_subcommand(app), compare_bench_subcommand(app), scan_subcommand(app)};
-  CLI11_PARSE(app, argc, argv);
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string known;
+    bool found = false;
+    for (const auto& cmd : commands) {
+      found = found || cmd.app->get_name() == argv[1];
+      known += (known.empty() ? "" : ", ") + cmd.app->get_name();
+    }
+    if (!found) {
+      std::fprintf(stderr, "grapebench: unknown subcommand '%s'; one of: %s\n", argv[1], known.c_str());
+      return 2;
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --help-all are "errors" with code 0; every usage error exits 2, as
+    // bad input does (CLI11's own codes are 105-109).
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   try {
     for (const auto& c : commands) {
       if (c.app->parsed()) return c.action();

@@ -44,6 +44,18 @@ TEST(Cli, SynthHelpDocumentsEveryParameterWithUnitDefaultAndRange) {
   for (const auto& p : preset_names()) EXPECT_NE(r.out.find(p), std::string::npos);
 }
 
+// Reproducer: CLI11's own usage errors exited 105-109, not the 2 of every other input error.
+TEST(Cli, UsageErrorsExitTwoAndHelpZero) {
+  for (const char* args : {"run --bogus", "frobnicate", "synth --count 0", "check", "merge scenes/default.yaml"}) {
+    const CommandResult r = run_cli(args);
+    EXPECT_EQ(r.status, 2) << args << "\n" << r.out;
+    EXPECT_FALSE(r.out.empty()) << args;
+  }
+  EXPECT_NE(run_cli("frobnicate").out.find("frobnicate"), std::string::npos);
+  EXPECT_EQ(run_cli("--help").status, 0);
+  EXPECT_EQ(run_cli("run --help").status, 0);
+}
+
 TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
   CommandResult r = run_cli("synth --set compactness=3 --no-mesh --out /tmp/grapebench_cli_test");
   EXPECT_EQ(r.status, 2) << r.out;
