@@ -4,15 +4,28 @@ namespace grapebench {
 
 const char* quantity_name(Quantity q) {
   switch (q) {
-    case Quantity::Volume: return "volume";
-    case Quantity::Height: return "height";
-    case Quantity::Length: return "length";
-    case Quantity::Width: return "width";
-    case Quantity::PerimeterH: return "perimeter_h";
-    case Quantity::PerimeterL: return "perimeter_l";
-    case Quantity::PerimeterW: return "perimeter_w";
-    case Quantity::SizeMajor: return "size_major";
-    case Quantity::SizeMinor: return "size_minor";
+    case Quantity::Volume:
+      return "volume";
+    case Quantity::Height:
+      return "height";
+    case Quantity::Length:
+      return "length";
+    case Quantity::Width:
+      return "width";
+    case Quantity::PerimeterH:
+      return "perimeter_h";
+    case Quantity::PerimeterL:
+      return "perimeter_l";
+    case Quantity::PerimeterW:
+      return "perimeter_w";
+    case Quantity::SizeMajor:
+      return "size_major";
+    case Quantity::SizeMinor:
+      return "size_minor";
+    case Quantity::HangingHeight:
+      return "hanging_height";
+    case Quantity::MaxDiameter:
+      return "max_diameter";
   }
   return "?";
 }

@@ -3,15 +3,16 @@
 // detections, per-point class scores.
 #pragma once
 
-#include "algorithms/point_cloud.h"
-
 #include <Eigen/Geometry>
-
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "algorithms/point_cloud.h"
+#include "algorithms/stereo_pair.h"
 
 namespace grapebench {
 
@@ -21,10 +22,26 @@ namespace grapebench {
 // length and width axis (seed 002 Eqs. 10-12).
 // SizeMajor / SizeMinor: seed 003's pair of size measures G_x (Eq. 3), the larger and
 // the smaller, scored against the hanging bunch's length and width, larger first.
-enum class Quantity { Volume, Height, Length, Width, PerimeterH, PerimeterL, PerimeterW, SizeMajor, SizeMinor };
-inline constexpr Quantity kAllQuantities[] = {Quantity::Volume,     Quantity::Height,     Quantity::Length,
-                                              Quantity::Width,      Quantity::PerimeterH, Quantity::PerimeterL,
-                                              Quantity::PerimeterW, Quantity::SizeMajor,  Quantity::SizeMinor};
+// HangingHeight / MaxDiameter: seed 001's bounding-volume height and maximum diameter,
+// scored against the hanging bunch's vertical extent (without the peduncle) and its
+// largest diameter about the vertical through the cutting point.
+enum class Quantity {
+  Volume,
+  Height,
+  Length,
+  Width,
+  PerimeterH,
+  PerimeterL,
+  PerimeterW,
+  SizeMajor,
+  SizeMinor,
+  HangingHeight,
+  MaxDiameter
+};
+inline constexpr Quantity kAllQuantities[] = {Quantity::Volume,        Quantity::Height,     Quantity::Length,
+                                              Quantity::Width,         Quantity::PerimeterH, Quantity::PerimeterL,
+                                              Quantity::PerimeterW,    Quantity::SizeMajor,  Quantity::SizeMinor,
+                                              Quantity::HangingHeight, Quantity::MaxDiameter};
 const char* quantity_name(Quantity q);  // "volume", "height", ..., "perimeter_h"
 // (name, quantity) for every quantity: the choices of a scene's `quantities` list.
 std::vector<std::pair<std::string, Quantity>> quantity_choices();
@@ -41,12 +58,15 @@ struct Detection {
 
 // What one run of an estimator gives the harness.
 struct Estimate {
-  std::vector<std::pair<Quantity, double>> values;  // scalars, SI units
+  std::vector<std::pair<Quantity, double>> values;   // scalars, SI units
   std::vector<std::pair<std::string, Vec3>> points;  // named 3D points, m, the input's frame ("cutting_point")
   std::vector<Detection> detections;                 // in the input image's pixels
   Eigen::MatrixXd class_scores;                      // N x K per-point class scores (or 0 x 0)
-  bool watertight = false;  // for volume methods with a mesh
-  std::string notes;        // diagnostics (points used, iterations, residuals), into results.csv
+  bool watertight = false;                           // for volume methods with a mesh
+  // Set when the scalars could not be made (the stage that failed); the other outputs
+  // (a cutting point, detections) still stand.
+  std::string error;
+  std::string notes;  // diagnostics (points used, iterations, residuals), into results.csv
 };
 
 // One view of a multi-view scan: its segmented, filtered returns in its camera frame
@@ -59,22 +79,23 @@ struct InputView {
 
 // The frame a single-frame estimator measures: which view, which ROI, the camera.
 struct InputFrame {
-  int index = -1;      // view of the scan
-  std::string roi;     // auto_r | auto_cm | manual_r | manual_cm
-  int region = -1;     // the region's index in the frame
-  int width = 0, height = 0;             // pixels
+  int index = -1;                         // view of the scan
+  std::string roi;                        // auto_r | auto_cm | manual_r | manual_cm
+  int region = -1;                        // the region's index in the frame
+  int width = 0, height = 0;              // pixels
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels (rays through pixel centres u + 0.5)
 };
 
 // What a protocol hands an estimator: the cloud and, where the protocol knows them,
 // per-point attributes in the same row order (empty otherwise).
 struct EstimatorInput {
-  PointCloud points;                // N x 3, m
-  PointCloud viewpoints;            // N x 3, m: the centre of the camera that saw each point
-  PointCloud normals;               // N x 3, unit: the sensor's surface normal at each point
-  std::vector<Rgb8> colours;        // N: the sensor's colour of each point
-  std::vector<InputView> views;     // multi_view: the individual views
-  std::optional<InputFrame> frame;  // single_frame: the frame and its ROI
+  PointCloud points;                         // N x 3, m
+  PointCloud viewpoints;                     // N x 3, m: the centre of the camera that saw each point
+  PointCloud normals;                        // N x 3, unit: the sensor's surface normal at each point
+  std::vector<Rgb8> colours;                 // N: the sensor's colour of each point
+  std::vector<InputView> views;              // multi_view: the individual views
+  std::optional<InputFrame> frame;           // single_frame: the frame and its ROI
+  std::shared_ptr<const StereoPair> stereo;  // stereo_pair: the rectified colour pair (no cloud)
 };
 
 // An estimator with its parameters bound (parsed and range-checked when the scene is

@@ -1,5 +1,8 @@
 #include "algorithms/registry.h"
 
+#include <algorithm>
+#include <filesystem>
+
 #include "algorithms/alpha_shape_volume.h"
 #include "algorithms/convex_hull_volume.h"
 #include "algorithms/cylinder_fit.h"
@@ -7,15 +10,13 @@
 #include "algorithms/ellipsoid_fit.h"
 #include "algorithms/ellipsoid_volume.h"
 #include "algorithms/external_estimator.h"
+#include "algorithms/luo2016_stereo.h"
 #include "algorithms/mls_smooth.h"
 #include "algorithms/pca_box.h"
 #include "algorithms/percentile_box.h"
 #include "algorithms/poisson_volume.h"
 #include "algorithms/section_perimeters.h"
 #include "algorithms/voxel_volume.h"
-
-#include <algorithm>
-#include <filesystem>
 
 namespace grapebench {
 
@@ -32,12 +33,11 @@ const ParamTable<NoParams>& no_params() {
 template <class P, class Run>
 RegistryEntry<EstimatorBinding> estimator(std::string type, std::string summary, std::vector<Quantity> quantities,
                                           const ParamTable<P>& table, Run run) {
-  return entry<EstimatorBinding>(std::move(type), std::move(summary), table, P{},
-                                 [quantities, run](const P& p, const ConfigNode&) {
-                                   return EstimatorBinding{quantities, [p, run](const EstimatorInput& in) {
-                                                             return run(p, in.points, in.viewpoints);
-                                                           }};
-                                 });
+  return entry<EstimatorBinding>(
+      std::move(type), std::move(summary), table, P{}, [quantities, run](const P& p, const ConfigNode&) {
+        return EstimatorBinding{quantities,
+                                [p, run](const EstimatorInput& in) { return run(p, in.points, in.viewpoints); }};
+      });
 }
 
 // A pipeline-step line: run(params, cloud).
@@ -82,8 +82,8 @@ RegistryEntry<EstimatorBinding> external() {
       external_param_table(), ExternalParams{}, [](ExternalParams x, const ConfigNode& n) {
         substitute_scene_dir(x.command, std::filesystem::path(n.file()).parent_path().string());
         if (x.persistent) x.programs = start_persistent_programs(x);
-        return EstimatorBinding{x.quantities,
-                                [x](const EstimatorInput& in) { return external_estimate(in, x); }};
+        return EstimatorBinding{x.quantities, [x](const EstimatorInput& in) { return external_estimate(in, x); },
+                                "cloud"};
       });
 }
 
@@ -107,7 +107,8 @@ const Registry<EstimatorBinding>& estimator_registry() {
                     [](const SectionPerimeterParams& s, const PointCloud& c, const PointCloud&) {
                       const SectionPerimeters r = section_perimeters(c, s);
                       Estimate e;
-                      e.values = {{Q::PerimeterH, r.perimeter(0)}, {Q::PerimeterL, r.perimeter(1)},
+                      e.values = {{Q::PerimeterH, r.perimeter(0)},
+                                  {Q::PerimeterL, r.perimeter(1)},
                                   {Q::PerimeterW, r.perimeter(2)}};
                       e.notes = "knots " + std::to_string(r.knots[0]) + "/" + std::to_string(r.knots[1]) + "/" +
                                 std::to_string(r.knots[2]);
@@ -127,8 +128,9 @@ const Registry<EstimatorBinding>& estimator_registry() {
                     [](const AlphaShapeParams& a, const PointCloud& c, const PointCloud&) {
                       return volume_only(alpha_shape_volume(c, a));
                     }),
-          estimator("ellipsoid_volume", "4/3 pi r1 r2 r3 of the algebraic ellipsoid fit", {Q::Volume}, no_params(),
-                    [](const NoParams&, const PointCloud& c, const PointCloud&) { return volume_only(ellipsoid_volume(c)); }),
+          estimator(
+              "ellipsoid_volume", "4/3 pi r1 r2 r3 of the algebraic ellipsoid fit", {Q::Volume}, no_params(),
+              [](const NoParams&, const PointCloud& c, const PointCloud&) { return volume_only(ellipsoid_volume(c)); }),
           estimator("voxel", "VB: voxel counting (seed 000 Eq. 7), voxel edge in m", {Q::Volume},
                     voxel_volume_param_table(),
                     [](const VoxelVolumeParams& v, const PointCloud& c, const PointCloud&) {
@@ -138,7 +140,8 @@ const Registry<EstimatorBinding>& estimator_registry() {
                     "PB: Poisson reconstruction from MLS normals, signed-tetrahedron volume (seed 000 Eq. 11; PCL, "
                     "CGAL or screened Poisson)",
                     {Q::Volume}, poisson_param_table(), poisson),
-          estimator("percentile_box_edges", "G_E: two largest edges of the percentile box, and its volume (seed 003 Alg. 1)",
+          estimator("percentile_box_edges",
+                    "G_E: two largest edges of the percentile box, and its volume (seed 003 Alg. 1)",
                     {Q::SizeMajor, Q::SizeMinor, Q::Volume}, percentile_box_param_table(),
                     [](const PercentileBoxParams& b, const PointCloud& c, const PointCloud&) {
                       const PercentileBox box = percentile_box(c, b);
@@ -146,7 +149,8 @@ const Registry<EstimatorBinding>& estimator_registry() {
                       e.values.push_back({Q::Volume, box.volume()});
                       return e;
                     }),
-          estimator("percentile_box_diagonals", "G_D: two largest face diagonals of the percentile box (seed 003 Alg. 1)",
+          estimator("percentile_box_diagonals",
+                    "G_D: two largest face diagonals of the percentile box (seed 003 Alg. 1)",
                     {Q::SizeMajor, Q::SizeMinor}, percentile_box_param_table(),
                     [](const PercentileBoxParams& b, const PointCloud& c, const PointCloud&) {
                       const PercentileBox box = percentile_box(c, b);
@@ -165,6 +169,16 @@ const Registry<EstimatorBinding>& estimator_registry() {
                       const CylinderFit fit = cylinder_fit(c, f);
                       return size_pair(fit.diameter, fit.height);
                     }),
+          entry<EstimatorBinding>(
+              "luo2016_stereo",
+              "seed 001's system on a rectified colour stereo pair: cutting point, berry circles, revolved bounding "
+              "volume (Luo et al. 2016; OpenCV)",
+              luo2016_param_table(), Luo2016Params{},
+              [](const Luo2016Params& p, const ConfigNode&) {
+                return EstimatorBinding{{Q::HangingHeight, Q::MaxDiameter, Q::Volume},
+                                        [p](const EstimatorInput& in) { return luo2016_estimate(in, p); },
+                                        "stereo_pair"};
+              }),
           external(),
       });
   return registry;
@@ -176,7 +190,8 @@ const Registry<BoundFilter>& filter_registry() {
       {
           step("pass_through", "keep the points in an axis-aligned box, m (seed 000 clipping, seed 003 Sect. 2.3)",
                pass_through_param_table(), pass_through),
-          step("statistical_outlier", "statistical outlier removal, n neighbours and delta sd (seed 002 Sect. 2.1; PCL)",
+          step("statistical_outlier",
+               "statistical outlier removal, n neighbours and delta sd (seed 002 Sect. 2.1; PCL)",
                outlier_removal_param_table(), statistical_outlier_removal),
           step("voxel_grid", "voxel-grid downsampling to voxel centroids, leaf in m (seed 000; PCL)",
                voxel_grid_param_table(), voxel_grid),
@@ -193,8 +208,8 @@ const Registry<BoundFilter>& filter_registry() {
                  FilteredCloud out;
                  out.points = std::move(s.points);
                  out.source = std::move(s.source);
-                 out.notes = "smoothed " + std::to_string(out.points.rows()) + " of " + std::to_string(c.rows()) +
-                             " points";
+                 out.notes =
+                     "smoothed " + std::to_string(out.points.rows()) + " of " + std::to_string(c.rows()) + " points";
                  return out;
                }),
       });

@@ -4,21 +4,24 @@
 // one CMake line.
 #pragma once
 
+#include <functional>
+#include <string>
+#include <vector>
+
 #include "algorithms/estimate.h"
 #include "algorithms/filters.h"
 #include "algorithms/point_cloud.h"
 #include "synth/registry.h"
 
-#include <functional>
-#include <string>
-#include <vector>
-
 namespace grapebench {
 
 // A created estimator: what it reports (rows even when it fails) and the bound run.
+// `input`: what it measures, so a scene pairs it with a protocol that gives it:
+// "cloud" (multi_view, single_frame), "stereo_pair", or "any" (an external program).
 struct EstimatorBinding {
   std::vector<Quantity> quantities;
   BoundEstimator run;
+  std::string input = "cloud";
 };
 const Registry<EstimatorBinding>& estimator_registry();
 

@@ -1,11 +1,11 @@
 #include "bench/case_result.h"
 
-#include "bench/heap_meter.h"
-#include "synth/io.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include "bench/heap_meter.h"
+#include "synth/io.h"
 
 namespace grapebench {
 
@@ -25,16 +25,29 @@ std::uint64_t fnv1a(const std::string& s) {
 
 double truth_of(Quantity q, const GroundTruth& gt) {
   switch (q) {
-    case Quantity::Volume: return gt.volume.solid;
-    case Quantity::Height: return gt.pca_extent(0);
-    case Quantity::Length: return gt.pca_extent(1);
-    case Quantity::Width: return gt.pca_extent(2);
-    case Quantity::PerimeterH: return gt.section_perimeter(0);
-    case Quantity::PerimeterL: return gt.section_perimeter(1);
-    case Quantity::PerimeterW: return gt.section_perimeter(2);
+    case Quantity::Volume:
+      return gt.volume.solid;
+    case Quantity::Height:
+      return gt.pca_extent(0);
+    case Quantity::Length:
+      return gt.pca_extent(1);
+    case Quantity::Width:
+      return gt.pca_extent(2);
+    case Quantity::PerimeterH:
+      return gt.section_perimeter(0);
+    case Quantity::PerimeterL:
+      return gt.section_perimeter(1);
+    case Quantity::PerimeterW:
+      return gt.section_perimeter(2);
     // Seed 003: the hanging bunch's length and width, larger first.
-    case Quantity::SizeMajor: return std::max(gt.height, gt.row_width);
-    case Quantity::SizeMinor: return std::min(gt.height, gt.row_width);
+    case Quantity::SizeMajor:
+      return std::max(gt.height, gt.row_width);
+    case Quantity::SizeMinor:
+      return std::min(gt.height, gt.row_width);
+    case Quantity::HangingHeight:
+      return gt.height;
+    case Quantity::MaxDiameter:
+      return gt.max_diameter;
   }
   return 0;
 }
@@ -64,46 +77,65 @@ CaseResult new_case(const Condition& condition, int condition_index, const Bunch
   return r;
 }
 
+TimedEstimate run_estimator(const EstimatorSpec& spec, const EstimatorInput& input) {
+  TimedEstimate t;
+  const HeapMeter meter;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    t.estimate = spec.run(input);
+  } catch (const std::exception& e) {
+    t.error = e.what();
+  }
+  t.seconds = seconds_since(t0);
+  if (heap_meter_available()) t.peak_heap_mb = static_cast<double>(meter.peak_bytes()) / 1e6;
+  return t;
+}
+
+EstimateRow estimate_row(const EstimatorSpec& spec, const TimedEstimate& t) {
+  EstimateRow row;
+  row.estimator = spec.name;
+  row.type = spec.type;
+  row.seconds = t.seconds;
+  row.peak_heap_mb = t.peak_heap_mb;
+  row.error = t.error;
+  if (t.error.empty()) {
+    row.watertight = t.estimate.watertight;
+    row.notes = t.estimate.notes;
+  }
+  return row;
+}
+
+std::vector<EstimateRow> scalar_rows(const EstimatorSpec& spec, const TimedEstimate& t, const GroundTruth& gt,
+                                     std::size_t input_points) {
+  std::vector<EstimateRow> rows;
+  for (const Quantity q : spec.quantities) {
+    EstimateRow row = estimate_row(spec, t);
+    row.quantity = quantity_name(q);
+    row.truth = truth_of(q, gt);  // zero when the case failed before its ground truth
+    row.region_points = input_points;
+    if (row.error.empty()) {
+      for (const auto& [qq, v] : t.estimate.values) {
+        if (qq == q) {
+          row.estimate = v;
+          row.ok = std::isfinite(v);
+        }
+      }
+      if (!row.ok) row.error = t.estimate.error.empty() ? "the estimator gave no finite value" : t.estimate.error;
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs, const EstimatorInput& input,
                                         const GroundTruth& gt, const std::string& cloud_error) {
   std::vector<EstimateRow> rows;
   for (const auto& spec : specs) {
-    Estimate est;
-    std::string error = cloud_error;
-    double secs = 0, heap_mb = -1;
-    if (error.empty()) {
-      const HeapMeter meter;
-      const auto t0 = std::chrono::steady_clock::now();
-      try {
-        est = spec.run(input);
-      } catch (const std::exception& e) {
-        error = e.what();
-      }
-      secs = seconds_since(t0);
-      if (heap_meter_available()) heap_mb = static_cast<double>(meter.peak_bytes()) / 1e6;
-    }
-    for (const Quantity q : spec.quantities) {
-      EstimateRow row;
-      row.estimator = spec.name;
-      row.type = spec.type;
-      row.quantity = quantity_name(q);
-      row.truth = truth_of(q, gt);  // zero when the case failed before its ground truth
-      row.seconds = secs;
-      row.peak_heap_mb = heap_mb;
-      row.error = error;
-      row.region_points = static_cast<std::size_t>(input.points.rows());
-      if (error.empty()) {
-        for (const auto& [qq, v] : est.values) {
-          if (qq == q) {
-            row.estimate = v;
-            row.ok = std::isfinite(v);
-          }
-        }
-        if (!row.ok) row.error = "the estimator gave no finite value";
-        row.watertight = est.watertight;
-        row.notes = est.notes;
-      }
-      rows.push_back(row);
+    TimedEstimate t;
+    t.error = cloud_error;
+    if (cloud_error.empty()) t = run_estimator(spec, input);
+    for (EstimateRow& row : scalar_rows(spec, t, gt, static_cast<std::size_t>(input.points.rows()))) {
+      rows.push_back(std::move(row));
     }
   }
   return rows;
@@ -135,10 +167,21 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   j["filter_seconds"] = c.filter_seconds;
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const auto& r : c.rows) {
-    rows.push_back({{"estimator", r.estimator}, {"type", r.type}, {"quantity", r.quantity}, {"ok", r.ok},
-                    {"estimate", r.estimate}, {"truth", r.truth}, {"watertight", r.watertight}, {"error", r.error},
-                    {"seconds", r.seconds}, {"peak_heap_mb", r.peak_heap_mb}, {"frame", r.frame}, {"roi", r.roi},
-                    {"region", r.region}, {"region_points", r.region_points}, {"region_precision", r.region_precision},
+    rows.push_back({{"estimator", r.estimator},
+                    {"type", r.type},
+                    {"quantity", r.quantity},
+                    {"ok", r.ok},
+                    {"estimate", r.estimate},
+                    {"truth", r.truth},
+                    {"watertight", r.watertight},
+                    {"error", r.error},
+                    {"seconds", r.seconds},
+                    {"peak_heap_mb", r.peak_heap_mb},
+                    {"frame", r.frame},
+                    {"roi", r.roi},
+                    {"region", r.region},
+                    {"region_points", r.region_points},
+                    {"region_precision", r.region_precision},
                     {"notes", r.notes}});
   }
   j["rows"] = rows;

@@ -2,14 +2,13 @@
 // scores, timings), its key and case file, and the estimator runs every protocol shares.
 #pragma once
 
-#include "bench/scene.h"
-#include "synth/ground_truth.h"
-
-#include <nlohmann/json.hpp>
-
 #include <chrono>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "bench/scene.h"
+#include "synth/ground_truth.h"
 
 namespace grapebench {
 
@@ -17,17 +16,18 @@ namespace grapebench {
 struct EstimateRow {
   std::string estimator;  // the scene's name for it
   std::string type;
-  std::string quantity;   // volume | height | length | width
-  bool ok = false;        // false: the estimator failed (error says why)
+  std::string quantity;  // volume | height | length | width
+  bool ok = false;       // false: the estimator failed (error says why)
   double estimate = 0;
   double truth = 0;
   bool watertight = false;
   std::string error;
-  std::string notes;      // the estimator's diagnostics (points used, iterations, residuals)
-  double seconds = 0;     // wall time of the estimator (not deterministic)
+  std::string notes;         // the estimator's diagnostics (points used, iterations, residuals)
+  double seconds = 0;        // wall time of the estimator (not deterministic)
   double peak_heap_mb = -1;  // most heap (operator new) it held above its start, MB; -1: not measured
   // Single-frame pipelines (seed 003): the view, the ROI kind (auto_r, auto_cm,
-  // manual_r, manual_cm) and the region's index in that frame; -1 / "" otherwise.
+  // manual_r, manual_cm) and the region's index in that frame; stereo_pair (seed 001):
+  // the view and its station's name ("station_0800mm"); -1 / "" otherwise.
   int frame = -1;
   std::string roi;
   int region = -1;
@@ -40,8 +40,8 @@ struct CaseResult {
   int bunch = 0;
   std::string preset;
   std::uint64_t seed = 0;
-  std::string key;        // hash of everything the case depends on (resume check)
-  bool ok = false;        // false: the scan or registration failed (error says why)
+  std::string key;  // hash of everything the case depends on (resume check)
+  bool ok = false;  // false: the scan or registration failed (error says why)
   std::string error;
   std::size_t points = 0;  // bunch points after segmentation and registration
   int views = 0;
@@ -77,6 +77,21 @@ void apply_filters(const std::vector<FilterSpec>& steps, PointCloud& cloud, std:
     carried = std::move(next);
   }
 }
+
+// One estimator's answer on one input: its Estimate, or the error it threw; wall time
+// and peak heap.
+struct TimedEstimate {
+  Estimate estimate;
+  std::string error;
+  double seconds = 0;
+  double peak_heap_mb = -1;
+};
+TimedEstimate run_estimator(const EstimatorSpec& spec, const EstimatorInput& input);
+// A row of the estimator's name, type, timing, error and notes (no quantity yet).
+EstimateRow estimate_row(const EstimatorSpec& spec, const TimedEstimate& t);
+// A row per quantity the estimator reports, beside its truth.
+std::vector<EstimateRow> scalar_rows(const EstimatorSpec& spec, const TimedEstimate& t, const GroundTruth& gt,
+                                     std::size_t input_points);
 
 // The rows of every estimator of `specs` on what the protocol hands over, timed, with
 // their truths; when `cloud_error` is set the cloud could not be made and every row

@@ -1,13 +1,13 @@
 #include "bench/scene.h"
 
-#include "synth/rng.h"
-
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "synth/rng.h"
 
 namespace grapebench {
 
@@ -21,6 +21,8 @@ std::vector<std::pair<std::string, std::string>> names(const std::vector<std::st
 
 bool single_frame(const PipelineSpec& p) { return p.protocol == "single_frame"; }
 bool multi_view(const PipelineSpec& p) { return p.protocol == "multi_view"; }
+bool stereo_pair(const PipelineSpec& p) { return p.protocol == "stereo_pair"; }
+bool point_cloud(const PipelineSpec& p) { return !stereo_pair(p); }
 
 nlohmann::ordered_json steps_json(const std::vector<FilterSpec>& list) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
@@ -38,6 +40,7 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
                   {{"labels", P::Segmentation::Labels}, {"none", P::Segmentation::None}},
                   "labels: the returns on bunch parts (an oracle); none: every return, view_filters must find the "
                   "bunch (single_frame: none only)")
+          .when("protocol: multi_view or single_frame", point_cloud)
           .real("min_points", "count", &P::min_points, 4, 1e9, "a case with fewer bunch points fails")
           .when("protocol: multi_view", multi_view)
           .real("visibility_hull", "m", &P::visibility_hull, 0, 0.05,
@@ -53,9 +56,18 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
           .integer("manual_min_berry_points", "count", &P::manual_min_berry_points, 1, 100000000,
                    "fewer visible berry returns: no manual label")
           .when("protocol: single_frame", single_frame)
+          .real("cut_tolerance", "px", &P::cut_tolerance, 0, 50,
+                "a cutting point within this of a peduncle pixel of the exact label image is a success (seed 001 "
+                "Sect. 3.1 counts any point on the peduncle)")
+          .when("protocol: stereo_pair", stereo_pair)
+          .real("berry_visible_fraction", "-", &P::berry_visible_fraction, 0, 1,
+                "a berry counts as visible when this fraction of its projected disc is unoccluded in the left label "
+                "image (seed 001 Table 1: occluded by less than 1/3)")
+          .when("protocol: stereo_pair", stereo_pair)
           .validate([](const P& p, const ConfigNode& n) {
             if (single_frame(p) && p.segmentation != P::Segmentation::None) {
-              n.fail("segmentation", "the single_frame protocol measures every return of a frame (seed 003): only none");
+              n.fail("segmentation",
+                     "the single_frame protocol measures every return of a frame (seed 003): only none");
             }
             if (p.visibility_hull > 0 && p.visibility_hull < 1e-4) {
               n.fail("visibility_hull", "must be 0 (off) or lie in [1e-4, 0.05] m");
@@ -67,7 +79,7 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
 nlohmann::ordered_json PipelineSpec::describe() const {
   nlohmann::ordered_json j = pipeline_param_table().to_json(*this);
   if (multi_view(*this)) j["registration"] = registration.params;
-  j["view_filters"] = steps_json(view_filters);
+  if (point_cloud(*this)) j["view_filters"] = steps_json(view_filters);
   if (multi_view(*this)) j["cloud_filters"] = steps_json(cloud_filters);
   return j;
 }
@@ -113,6 +125,9 @@ PipelineSpec read_pipeline(const ConfigNode& n, const std::string& protocol) {
       (list == std::string("view_filters") ? p.view_filters : p.cloud_filters).push_back(std::move(spec));
     }
   }
+  if (n.has("view_filters") && stereo_pair(p)) {
+    n.fail("view_filters", "is read only with a point-cloud protocol (multi_view, single_frame)");
+  }
   if (n.has("cloud_filters") && !multi_view(p)) {
     n.fail("cloud_filters", "is read only with protocol: multi_view (a registered cloud); use view_filters");
   }
@@ -126,12 +141,14 @@ std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
     EstimatorBinding bound = estimator_registry().create(n, e.params);
     e.type = e.params["type"].get<std::string>();
     e.quantities = std::move(bound.quantities);
+    e.input = bound.input;
     e.run = std::move(bound.run);
     e.name = n.get_string("name", e.type);
     if (e.name.empty() || e.name.find_first_of(",\"\n ") != std::string::npos) {
       n.fail("name", "must be non-empty without spaces, commas or quotes");
     }
-    if (e.name == "visibility_hull") n.fail("name", "'visibility_hull' is reserved for the rig's floor row (pipeline.visibility_hull); pick another");
+    if (e.name == "visibility_hull")
+      n.fail("name", "'visibility_hull' is reserved for the rig's floor row (pipeline.visibility_hull); pick another");
     for (const auto& other : out) {
       if (other.name == e.name) n.fail("name", "'" + e.name + "' is used twice; give each estimator its own `name:`");
     }

@@ -1,6 +1,12 @@
 // Scene files: the strict YAML documents `grapebench` runs (see scenes/README.md).
 #pragma once
 
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "algorithms/registration.h"
 #include "algorithms/registry.h"
 #include "algorithms/seed003_roi.h"
@@ -9,12 +15,6 @@
 #include "sensors/sensor_registry.h"
 #include "synth/foliage.h"
 #include "synth/params.h"
-
-#include <cstdint>
-#include <memory>
-#include <optional>
-#include <string>
-#include <vector>
 
 namespace grapebench {
 
@@ -63,9 +63,14 @@ struct PipelineSpec {
   // rachis), manual_cm.
   std::vector<std::string> rois{"auto_r", "auto_cm", "manual_r", "manual_cm"};
   Seed003RoiParams roi;
-  bool fine_tune = true;         // single_frame: the fine-tuning step on every ROI
+  bool fine_tune = true;              // single_frame: the fine-tuning step on every ROI
   int manual_min_berry_points = 100;  // single_frame: fewer visible berry returns, no label, [1, 1e8]
-  double min_points = 100;         // a case with fewer bunch points fails, [4, 1e9]
+  // stereo_pair (seed 001): a cutting point within cut_tolerance px of a peduncle pixel
+  // of the exact left label image is a success; a berry is visible when at least
+  // berry_visible_fraction of its projected disc is unoccluded there (Table 1: 2/3).
+  double cut_tolerance = 2;
+  double berry_visible_fraction = 2.0 / 3.0;
+  double min_points = 100;  // a case with fewer bunch points fails, [4, 1e9]
   // m, sample step of the rig's visibility hull (sensors/visibility_hull.h), reported
   // as the volume row of the reference `visibility_hull`: the floor of any estimator
   // that invents no geometry. 0: off (the default); else [1e-4, 0.05].
@@ -80,6 +85,7 @@ struct EstimatorSpec {
   std::string name;  // column name in the results (default: the type)
   std::string type;
   std::vector<Quantity> quantities;
+  std::string input = "cloud";    // cloud | stereo_pair (EstimatorBinding::input)
   nlohmann::ordered_json params;  // {type, every parameter with defaults filled}
   BoundEstimator run;
 };

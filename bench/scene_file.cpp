@@ -1,13 +1,13 @@
 #include "bench/scene_file.h"
 
-#include "bench/protocols/registry.h"
-
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "bench/protocols/registry.h"
 
 namespace grapebench {
 
@@ -30,6 +30,25 @@ std::vector<double> sweep_values(const ConfigNode& sweep, const std::string& key
   }
   sweep.fail(key, "expected a list of numbers or {from, to, step}");
 }
+
+namespace {
+
+// Each estimator measures what the protocol gives (a cloud or a stereo pair), and the
+// stereo_pair protocol needs a colour stereo sensor.
+void check_protocol_inputs(const ConfigNode& root, const Scene& s) {
+  const std::string wanted = s.protocol == "stereo_pair" ? "stereo_pair" : "cloud";
+  for (const auto& e : s.estimators) {
+    if (e.input != wanted && e.input != "any") {
+      root.fail("estimators", "'" + e.name + "' (type " + e.type + ") measures a " + e.input + ", and protocol " +
+                                  s.protocol + " gives a " + wanted);
+    }
+  }
+  if (s.protocol == "stereo_pair" && s.sensor && s.sensor->type() != "stereo_rgb") {
+    root.fail("protocol", "stereo_pair needs a colour stereo sensor (type stereo_rgb), not " + s.sensor->type());
+  }
+}
+
+}  // namespace
 
 Scene read_scene(const ConfigNode& root, const std::string& path) {
   Scene s;
@@ -77,6 +96,7 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
     if (s.sweep.empty()) root.fail("sweep", "the mapping is empty");
   }
   root.report_unused();
+  check_protocol_inputs(root, s);
   return s;
 }
 

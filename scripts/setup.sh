@@ -12,6 +12,7 @@ packages=(
   libembree-dev libopenmesh-dev libpcl-dev libosmesa6-dev libpng-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libbenchmark-dev
+  libopencv-imgproc-dev  # seed 001's image steps (core + imgproc; not the 270 MiB metapackage)
   python3-open3d python3-jsonschema  # the external-estimator example, its tests and the protocol schema check
   libopen3d-dev   # benchmark only: bench/perf/open3d_perf.cpp compares with Open3D
 )

@@ -1,15 +1,14 @@
 // One view of a scan: an organised point cloud with per-point ground truth.
 #pragma once
 
-#include "synth/types.h"
-
 #include <Eigen/Core>
-
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <type_traits>
 #include <vector>
+
+#include "synth/types.h"
 
 namespace grapebench {
 
@@ -89,8 +88,8 @@ class ByteMap {
 struct OrganisedCloud {
   int width = 0, height = 0;
   // Per pixel, row-major (index = v * width + u).
-  ByteMap valid;   // 1 when the sensor returns a point
-  ByteMap label;   // Part of the surface seen (Part::None: nothing)
+  ByteMap valid;  // 1 when the sensor returns a point
+  ByteMap label;  // Part of the surface seen (Part::None: nothing)
   // Set only where label != None: berry id (berries and their pedicels), else -1.
   raw_vector<std::int32_t> berry;
   // Set only where valid: position and normal in the sensor frame (x right, y down,
@@ -105,6 +104,7 @@ struct OrganisedCloud {
   // Rendered colour images of a stereo sensor (W x H x 3, row-major, top row first);
   // empty for depth sensors.
   std::vector<std::uint8_t> left_image, right_image;
+  double baseline = 0;          // m, left to right camera along +x (stereo sensors; 0 otherwise)
   std::uint64_t rays_cast = 0;  // rays traced for this frame (for rays-per-second figures)
 
   void resize(int w, int h);

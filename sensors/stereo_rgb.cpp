@@ -1,14 +1,14 @@
 #include "sensors/stereo_rgb.h"
 
-#include "sensors/ideal.h"
-#include "synth/mesh.h"
-#include "synth/rng.h"
-
 #include <GL/gl.h>
 #include <GL/osmesa.h>
 
 #include <cmath>
 #include <memory>
+
+#include "sensors/ideal.h"
+#include "synth/mesh.h"
+#include "synth/rng.h"
 
 namespace grapebench {
 
@@ -89,7 +89,8 @@ std::vector<unsigned char> foliage_texture(int size, std::uint64_t seed) {
       }
   }
   std::vector<unsigned char> out(img.size());
-  for (std::size_t i = 0; i < img.size(); ++i) out[i] = static_cast<unsigned char>(std::lround(std::clamp(img[i], 0.0f, 1.0f) * 255));
+  for (std::size_t i = 0; i < img.size(); ++i)
+    out[i] = static_cast<unsigned char>(std::lround(std::clamp(img[i], 0.0f, 1.0f) * 255));
   return out;
 }
 
@@ -213,6 +214,7 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
       }
     }
   };
+  out.baseline = p_.baseline;
   render(left, out.left_image, derive_seed(seed, 2));
   render(right, out.right_image, derive_seed(seed, 3));
   // The cloud's colours are the left image's.
@@ -231,10 +233,10 @@ const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
           .integer("width", "px", &P::width, 64, 4096, "image width (seed 001: 800)")
           .integer("height", "px", &P::height, 64, 4096, "image height (seed 001: 600)")
           .real("focal_length_mm", "mm", &P::focal_length_mm, 1, 100, "lens focal length (seed 001: 6 mm)")
-          .real("pixel_pitch_um", "um", &P::pixel_pitch_um, 1, 50, "pixel pitch (not stated in seed 001; 6 um: f = 1000 px)")
+          .real("pixel_pitch_um", "um", &P::pixel_pitch_um, 1, 50,
+                "pixel pitch (not stated in seed 001; 6 um: f = 1000 px)")
           .real("baseline", "m", &P::baseline, 0.01, 1, "left to right camera (seed 001: 5 cm)")
-          .choice("background", &P::background,
-                  {{"foliage", P::Background::Foliage}, {"plain", P::Background::Plain}},
+          .choice("background", &P::background, {{"foliage", P::Background::Foliage}, {"plain", P::Background::Plain}},
                   "what the images show behind the bunch")
           .rgb("plain_colour", &P::plain_colour, "the plain background's colour")
           .when("background: plain", [](const P& p) { return p.background == P::Background::Plain; })

@@ -1,13 +1,16 @@
 #include "synth/ground_truth.h"
 
+#include <CGAL/Min_sphere_of_spheres_d.h>
+#include <CGAL/Min_sphere_of_spheres_d_traits_2.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
 #include "synth/ball_union.h"
 #include "synth/config.h"
 #include "synth/stem_geometry.h"
-
-#include <Eigen/Eigenvalues>
-
-#include <algorithm>
-#include <cmath>
 
 namespace grapebench {
 
@@ -23,13 +26,19 @@ double circle_max(const Vec3& o, double r, const Vec3& e1, const Vec3& e2, F f) 
   double bestv = -std::numeric_limits<double>::infinity();
   for (int k = 0; k < n; ++k) {
     const double v = at(2 * M_PI * k / n);
-    if (v > bestv) { bestv = v; best = k; }
+    if (v > bestv) {
+      bestv = v;
+      best = k;
+    }
   }
   double a = 2 * M_PI * (best - 1) / n, b = 2 * M_PI * (best + 1) / n;
   const double g = 0.5 * (std::sqrt(5.0) - 1);
   for (int it = 0; it < 60; ++it) {
     const double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    if (at(x1) > at(x2)) b = x2; else a = x1;
+    if (at(x1) > at(x2))
+      b = x2;
+    else
+      a = x1;
   }
   return std::max(bestv, at(0.5 * (a + b)));
 }
@@ -54,6 +63,28 @@ VolumeTerms solid_volume_terms(const Bunch& bunch) {
   t.solid = t.berries_union + t.stems - t.junction_overlap - t.pedicel_in_berry;
   return t;
 }
+
+namespace {
+
+// Seed 001's manual diameter: the smallest ring about the hanging bunch, i.e. the
+// smallest enclosing circle of its horizontal projection: berries as discs, the stems
+// other than the peduncle as discs of their radius at both ends (CGAL's exact
+// min-sphere-of-spheres in 2D).
+double ring_diameter(const Bunch& bunch) {
+  using K = CGAL::Simple_cartesian<double>;
+  using Traits = CGAL::Min_sphere_of_spheres_d_traits_2<K, double, CGAL::Tag_true>;
+  std::vector<Traits::Sphere> discs;
+  for (const auto& b : bunch.berries) discs.emplace_back(K::Point_2(b.centre.x(), b.centre.y()), b.radius);
+  for (const auto& s : bunch.stems) {
+    if (s.part == Part::Peduncle) continue;
+    for (const Vec3& c : {s.start, s.end}) discs.emplace_back(K::Point_2(c.x(), c.y()), s.radius);
+  }
+  if (discs.empty()) return 0;
+  CGAL::Min_sphere_of_spheres_d<Traits> ms(discs.begin(), discs.end());  // radius() is not const
+  return 2 * ms.radius();
+}
+
+}  // namespace
 
 namespace {
 
@@ -185,6 +216,7 @@ GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
     for (const Vec3& c : {s.start, s.end}) rmax = std::max(rmax, circle_max(c, s.radius, e1, e2, radial));
   }
   g.max_diameter = 2 * rmax;
+  g.ring_diameter = ring_diameter(bunch);
 
   envelope_bounds(bunch, g.envelope_lower, g.envelope_upper);
   g.envelope_volume = 0.5 * (g.envelope_lower + g.envelope_upper);

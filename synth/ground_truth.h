@@ -1,13 +1,11 @@
 // Exact ground truth of a generated bunch, computed from its primitives.
 #pragma once
 
-#include "synth/types.h"
-
 #include <Eigen/Core>
-
 #include <array>
-
 #include <vector>
+
+#include "synth/types.h"
 
 namespace grapebench {
 
@@ -29,9 +27,9 @@ struct VolumeTerms {
 };
 
 struct GroundTruth {
-  VolumeTerms volume;      // m3
-  double density = 1.1;    // g/cm3
-  double mass = 0;         // g
+  VolumeTerms volume;    // m3
+  double density = 1.1;  // g/cm3
+  double mass = 0;       // g
   int berry_count = 0;
   // PCA frame (seed 000 Eq. 5, seed 002 Eq. 9): principal axes of the berries taken
   // as solid balls (volume-weighted), columns sorted by decreasing variance, and the
@@ -52,6 +50,9 @@ struct GroundTruth {
   double height = 0;
   double height_from_cutting_point = 0;
   double max_diameter = 0;
+  // The paper's manual diameter ("an adjustable annulus"): the smallest enclosing
+  // circle of the horizontal projection, without the peduncle, m.
+  double ring_diameter = 0;
   // Hanging in a vine row along x, seen from -y (seed 003's robot pass; its ground
   // truth is "length and width at the longest and widest points"): the extents of the
   // bunch without its peduncle along x (width, across the camera's view) and y (depth);

@@ -1,9 +1,10 @@
 #include "synth/io.h"
 
-#include "synth/config.h"
+#include <unistd.h>
 
 #include <fstream>
-#include <unistd.h>
+
+#include "synth/config.h"
 
 namespace grapebench {
 
@@ -34,11 +35,12 @@ nlohmann::json rgb(const Rgb& c) { return {c.r, c.g, c.b}; }
 
 nlohmann::ordered_json params_json(const BunchParams& p) { return bunch_param_table().to_json(p); }
 
-nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g,
-                                         const BunchRecord& r) {
+nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g, const BunchRecord& r) {
   nlohmann::ordered_json j;
   j["format"] = "grapebench-ground-truth/1";
-  j["units"] = {{"length", "m"}, {"volume", "m3 (and cm3 where named)"}, {"mass", "g"},
+  j["units"] = {{"length", "m"},
+                {"volume", "m3 (and cm3 where named)"},
+                {"mass", "g"},
                 {"frame", "world, z up; the rachis top at the origin"}};
   j["preset"] = r.preset;
   j["index"] = r.index;
@@ -59,21 +61,23 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g,
   j["density_g_cm3"] = g.density;
   j["mass_g"] = g.mass;
   j["berry_count"] = g.berry_count;
-  j["pca_frame"] = {{"definition", "principal axes of the berries as solid balls; extents of the bunch without peduncle"},
-                    {"centre_m", vec(g.pca_centre)},
-                    {"axes", {vec(g.pca_axes.col(0)), vec(g.pca_axes.col(1)), vec(g.pca_axes.col(2))}},
-                    {"extent_m", vec(g.pca_extent)},
-                    {"height_m", g.pca_extent[0]},
-                    {"length_m", g.pca_extent[1]},
-                    {"width_m", g.pca_extent[2]},
-                    {"section_perimeter_m",
-                     {{"definition", "convex outline of the exact section through the box centre normal to each axis"},
-                      {"height_axis", g.section_perimeter[0]},
-                      {"length_axis", g.section_perimeter[1]},
-                      {"width_axis", g.section_perimeter[2]}}}};
+  j["pca_frame"] = {
+      {"definition", "principal axes of the berries as solid balls; extents of the bunch without peduncle"},
+      {"centre_m", vec(g.pca_centre)},
+      {"axes", {vec(g.pca_axes.col(0)), vec(g.pca_axes.col(1)), vec(g.pca_axes.col(2))}},
+      {"extent_m", vec(g.pca_extent)},
+      {"height_m", g.pca_extent[0]},
+      {"length_m", g.pca_extent[1]},
+      {"width_m", g.pca_extent[2]},
+      {"section_perimeter_m",
+       {{"definition", "convex outline of the exact section through the box centre normal to each axis"},
+        {"height_axis", g.section_perimeter[0]},
+        {"length_axis", g.section_perimeter[1]},
+        {"width_axis", g.section_perimeter[2]}}}};
   j["hanging_frame"] = {{"height_m", g.height},
                         {"height_from_cutting_point_m", g.height_from_cutting_point},
                         {"max_diameter_m", g.max_diameter},
+                        {"ring_diameter_m", g.ring_diameter},
                         {"row_width_m", g.row_width},
                         {"row_depth_m", g.row_depth}};
   j["envelope"] = {{"definition", "convex hull of the solid"},
@@ -87,16 +91,24 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g,
   nlohmann::ordered_json berries = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < b.berries.size(); ++i) {
     const auto& x = b.berries[i];
-    berries.push_back({{"id", i}, {"centre_m", vec(x.centre)}, {"radius_m", x.radius},
-                       {"colour", rgb(x.colour)}, {"pedicel", x.pedicel}});
+    berries.push_back({{"id", i},
+                       {"centre_m", vec(x.centre)},
+                       {"radius_m", x.radius},
+                       {"colour", rgb(x.colour)},
+                       {"pedicel", x.pedicel}});
   }
   j["berries"] = berries;
   nlohmann::ordered_json stems = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < b.stems.size(); ++i) {
     const auto& s = b.stems[i];
-    stems.push_back({{"id", i}, {"part", part_name(s.part)}, {"start_m", vec(s.start)},
-                     {"end_m", vec(s.end)}, {"radius_m", s.radius}, {"parent", s.parent},
-                     {"stacked_on", s.stacked_on}, {"berry", s.berry}});
+    stems.push_back({{"id", i},
+                     {"part", part_name(s.part)},
+                     {"start_m", vec(s.start)},
+                     {"end_m", vec(s.end)},
+                     {"radius_m", s.radius},
+                     {"parent", s.parent},
+                     {"stacked_on", s.stacked_on},
+                     {"berry", s.berry}});
   }
   j["stems"] = stems;
   return j;

@@ -14,4 +14,21 @@ CaseCapture capture_case(const Scene& scene, const BunchJob& job) {
   return {std::move(bunch), std::move(truth), std::move(rays), std::move(scan)};
 }
 
+CaseResult measure_views(const Condition& condition, int condition_index, const BunchJob& job,
+                         const std::function<void(const CaseCapture&, CaseResult&)>& measure) {
+  CaseResult r = new_case(condition, condition_index, job);
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    const CaseCapture capture = capture_case(condition.scene, job);
+    r.scan_seconds = seconds_since(t0);
+    r.views = static_cast<int>(capture.scan.views.size());
+    measure(capture, r);
+    r.ok = true;
+  } catch (const std::exception& e) {
+    r.ok = false;
+    r.error = e.what();
+  }
+  return r;
+}
+
 }  // namespace grapebench

@@ -2,6 +2,7 @@
 
 #include "bench/protocols/multi_view.h"
 #include "bench/protocols/single_frame.h"
+#include "bench/protocols/stereo_pair.h"
 
 namespace grapebench {
 
@@ -25,8 +26,12 @@ const Registry<ProtocolRun>& protocol_registry() {
           protocol("multi_view",
                    "scan, segment, register, merge, filter, estimate: one registered cloud per bunch (seeds 000, 002)",
                    run_multi_view),
-          protocol("single_frame",
-                   "per frame: pass-through, ROIs, fine tuning, estimate; no registration (seed 003)", run_single_frame),
+          protocol("single_frame", "per frame: pass-through, ROIs, fine tuning, estimate; no registration (seed 003)",
+                   run_single_frame),
+          protocol("stereo_pair",
+                   "per station: one rectified colour stereo pair; cutting point, berries, bounding volume scored "
+                   "against the exact scene (seed 001)",
+                   run_stereo_pair),
       });
   return registry;
 }

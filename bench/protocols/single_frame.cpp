@@ -1,10 +1,10 @@
 #include "bench/protocols/single_frame.h"
 
-#include "algorithms/ndi_kmeans.h"
-#include "bench/protocols/capture.h"
-
 #include <algorithm>
 #include <chrono>
+
+#include "algorithms/ndi_kmeans.h"
+#include "bench/protocols/capture.h"
 
 namespace grapebench {
 
@@ -58,7 +58,8 @@ std::vector<Roi> frame_rois(const PipelineSpec& pl, const PointCloud& cloud, con
     for (std::size_t j = 0; j < det.regions.size(); ++j) {
       if (wants("auto_r")) rois.push_back({"auto_r", static_cast<int>(j), det.regions[j]});
       if (wants("auto_cm")) {
-        rois.push_back({"auto_cm", static_cast<int>(j), roi_from_centre_of_mass(cloud, det.regions[j], pl.roi.roi_radius)});
+        rois.push_back(
+            {"auto_cm", static_cast<int>(j), roi_from_centre_of_mass(cloud, det.regions[j], pl.roi.roi_radius)});
       }
     }
   }
@@ -137,19 +138,9 @@ void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt,
 }
 
 CaseResult run_single_frame(const Condition& condition, int condition_index, const BunchJob& job) {
-  CaseResult r = new_case(condition, condition_index, job);
-  try {
-    const auto t0 = std::chrono::steady_clock::now();
-    const CaseCapture capture = capture_case(condition.scene, job);
-    r.scan_seconds = seconds_since(t0);
-    r.views = static_cast<int>(capture.scan.views.size());
+  return measure_views(condition, condition_index, job, [&](const CaseCapture& capture, CaseResult& r) {
     measure_frames(condition.scene, capture.scan, capture.truth, r);
-    r.ok = true;
-  } catch (const std::exception& e) {
-    r.ok = false;
-    r.error = e.what();
-  }
-  return r;
+  });
 }
 
 }  // namespace grapebench

@@ -69,7 +69,32 @@ Score score(const std::vector<double>& est, const std::vector<double>& truth, in
   return s;
 }
 
-const char* display_unit(const std::string& q) { return q == "volume" ? "cm3" : "mm"; }
-double display_scale(const std::string& q) { return q == "volume" ? 1e6 : 1e3; }
+namespace {
+
+// Quantities that are not lengths: (name, unit, scale from the stored value).
+struct Unit {
+  const char* quantity;
+  const char* unit;
+  double scale;
+};
+constexpr Unit kUnits[] = {
+    {"volume", "cm3", 1e6},        {"envelope_volume", "cm3", 1e6}, {"cut_success", "-", 1},
+    {"berries_found", "count", 1}, {"berry_precision", "-", 1},     {"berry_centre_error", "px", 1},
+};
+
+}  // namespace
+
+const char* display_unit(const std::string& q) {
+  for (const Unit& u : kUnits) {
+    if (q == u.quantity) return u.unit;
+  }
+  return "mm";
+}
+double display_scale(const std::string& q) {
+  for (const Unit& u : kUnits) {
+    if (q == u.quantity) return u.scale;
+  }
+  return 1e3;
+}
 
 }  // namespace grapebench

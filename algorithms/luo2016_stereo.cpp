@@ -1,0 +1,107 @@
+#include "algorithms/luo2016_stereo.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "algorithms/rectified_triangulation.h"
+
+namespace grapebench {
+
+namespace {
+
+double since(std::chrono::steady_clock::time_point& t0) {
+  const auto t = std::chrono::steady_clock::now();
+  const double s = std::chrono::duration<double>(t - t0).count();
+  t0 = t;
+  return s;
+}
+
+}  // namespace
+
+Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p) {
+  Luo2016Result r;
+  auto t0 = std::chrono::steady_clock::now();
+  r.region = segment_cluster(pair.left, p.segmentation);
+  r.seconds_segmentation = since(t0);
+  if (!r.region.found()) {
+    r.failure = "no cluster region";
+    return r;
+  }
+  r.cut = detect_cutting_point(pair.left, r.region, p.cutting_point);
+  r.seconds_cutting_point = since(t0);
+  if (!r.cut.found()) {
+    r.failure = r.cut.failure;
+    return r;
+  }
+  const GreyImage left = to_grey(pair.left), right = to_grey(pair.right);
+  const NccMatch cut = ncc_disparity(left, right, r.cut.x, r.cut.y, pair.fx, pair.baseline, p.matching);
+  if (!cut.ok()) {
+    r.failure = "cutting point not matched: " + cut.failure;
+    r.seconds_matching = since(t0);
+    return r;
+  }
+  r.cut_disparity = cut.disparity;
+  r.cutting_point = triangulate_rectified(pair, r.cut.x, r.cut.y, cut.disparity);
+  r.seconds_matching = since(t0);
+  // Eq. 6 needs the berries' depth before matching them; the paper does not say where
+  // it comes from: the cutting point's.
+  r.berries = detect_berries(pair.left, r.region, r.cutting_point.z(), pair.fx, p.berries);
+  r.seconds_berries = since(t0);
+  for (const Detection& d : r.berries.berries) {
+    const NccMatch m = ncc_disparity(left, right, d.circle.x, d.circle.y, pair.fx, pair.baseline, p.matching);
+    if (!m.ok()) {
+      r.berry_matched.push_back(-1);
+      continue;
+    }
+    r.berry_matched.push_back(static_cast<int>(r.berry_points.size()));
+    r.berry_points.push_back(triangulate_rectified(pair, d.circle.x, d.circle.y, m.disparity));
+  }
+  r.seconds_matching += since(t0);
+  if (r.berry_points.size() < 2) {
+    r.failure = "fewer than 2 berries matched (" + std::to_string(r.berries.berries.size()) + " detected)";
+    return r;
+  }
+  r.volume = revolved_bounding_volume(r.cutting_point, r.berry_points);
+  return r;
+}
+
+Estimate luo2016_estimate(const EstimatorInput& input, const Luo2016Params& p) {
+  if (!input.stereo)
+    throw InputError("luo2016_stereo: needs a stereo pair (protocol: stereo_pair, sensor: stereo_rgb)");
+  const Luo2016Result r = luo2016_stereo(*input.stereo, p);
+  Estimate e;
+  e.error = r.failure;
+  if (r.cut.found() && r.cut_disparity > 0) e.points.emplace_back("cutting_point", r.cutting_point);
+  e.detections = r.berries.berries;
+  if (r.ok()) {
+    e.values = {{Quantity::HangingHeight, r.volume.height},
+                {Quantity::MaxDiameter, r.volume.max_diameter},
+                {Quantity::Volume, r.volume.volume}};
+  }
+  char notes[256];
+  std::snprintf(notes, sizeof notes,
+                "region %d px; lines %zu; berries %zu of %d circles (radius window %.1f-%.1f px), %zu matched; "
+                "cut disparity %.2f px; ms seg/cut/berries/match %.1f/%.1f/%.1f/%.1f",
+                r.region.area, r.cut.lines.size(), r.berries.berries.size(), r.berries.candidates,
+                r.berries.window.r_min, r.berries.window.r_max, r.berry_points.size(), r.cut_disparity,
+                1e3 * r.seconds_segmentation, 1e3 * r.seconds_cutting_point, 1e3 * r.seconds_berries,
+                1e3 * r.seconds_matching);
+  e.notes = notes;
+  return e;
+}
+
+const ParamTable<Luo2016Params>& luo2016_param_table() {
+  using P = Luo2016Params;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .section("segmentation", &P::segmentation, cluster_segmentation_param_table(),
+                   "colour component, Otsu and post-processing (seed 001 Sect. 2.2.2.1)")
+          .section("cutting_point", &P::cutting_point, cutting_point_param_table(),
+                   "peduncle ROI, bilateral filter, Canny, Hough lines (seed 001 Sect. 2.2.2.3)")
+          .section("berries", &P::berries, berry_circle_param_table(),
+                   "gradient Hough circles, refit and Eq. 7's rules (seed 001 Sect. 2.2.2.4)")
+          .section("matching", &P::matching, ncc_param_table(), "zero-mean NCC along the row (seed 001 Sect. 2.2.3.1)");
+  return table;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,49 @@
+// The stereo_pair protocol (seed 001): every station of the rig is one rectified colour
+// stereo pair, measured alone. Named stages: scan (capture.h), then per pair the
+// estimator input (the pair and its camera), the exact truth of the pair (peduncle
+// pixels, projected berries, the peduncle's axis), the estimators, and the scoring of
+// each output kind: the cutting point (a point), the berries (detections) and the
+// bounding volume (scalars).
+#pragma once
+
+#include "bench/case_result.h"
+#include "bench/scoring/detections.h"
+#include "sensors/scan.h"
+
+namespace grapebench {
+
+// The rectified pair of a stereo frame; pixel centres move to OpenCV's convention.
+// Throws InputError when the frame has no colour pair (a depth sensor).
+EstimatorInput stereo_input(const ScanView& view);
+
+// What a pair is scored against, all from the exact ray scene of the left camera.
+// The stalk is where a cut severs the whole cluster: the peduncle and the bare top of
+// the rachis above its first branch (the synthetic bunch's peduncle meets the rachis
+// at its top; the paper's "peduncle" is all the stalk above the cluster).
+struct StereoTruth {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> stalk;   // H x W: 1 where the left label image sees the stalk
+  std::vector<TruthObject> berries;  // projected true berries (OpenCV pixels), visible per the fraction
+  // The stalk's axis: peduncle and bare rachis, as segments in the left camera frame, m.
+  std::vector<std::pair<Vec3, Vec3>> stalk_axis;
+};
+// World height (z, m) of the highest branch on the rachis: a cut above it severs the
+// whole cluster.
+double first_branch_height(const Bunch& bunch);
+StereoTruth stereo_truth(const ScanView& view, const Bunch& bunch, double visible_fraction);
+
+// Rows of the cutting point: cut_success (1 when the pixel lies within `tolerance` px
+// of a stalk pixel; 0 when missed or not found), cut_z and cut_x (the 3D point against
+// the exact surface point behind the detected pixel: seed 001 Eqs. 10-11),
+// cut_axis_distance (from the stalk's axis: what a gripper needs).
+std::vector<EstimateRow> cutting_point_rows(const EstimateRow& base, const Estimate& e, const ScanView& view,
+                                            const StereoTruth& truth, double tolerance);
+// Rows of the berry circles: berries_found (estimate: visible berries matched; truth:
+// visible berries; seed 001 Table 1), berry_precision, berry_centre_error (px).
+std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth);
+
+void measure_pairs(const Scene& scene, const Scan& scan, const Bunch& bunch, const GroundTruth& gt, CaseResult& r);
+
+CaseResult run_stereo_pair(const Condition& condition, int condition_index, const BunchJob& job);
+
+}  // namespace grapebench

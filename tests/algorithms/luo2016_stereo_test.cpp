@@ -1,0 +1,123 @@
+// Seed 001's whole system, created through the estimator registry as a scene names
+// it, on an analytic stereo pair: foliage far behind, a stalk and a cluster of shaded
+// berries each at its own disparity. The cutting point, the berries and the bounding
+// volume are known exactly.
+#include "algorithms/luo2016_stereo.h"
+
+#include <gtest/gtest.h>
+
+#include "algorithms/registry.h"
+#include "algorithms/stereo_drawing.h"
+
+namespace grapebench {
+namespace {
+
+using testing::Colour;
+
+struct AnalyticPair {
+  StereoPair pair;
+  double stalk_x0 = 0, stalk_x1 = 0, stalk_y0 = 0, stalk_y1 = 0;  // left image, px
+  double stalk_depth = 0;                                         // m
+  std::vector<Vec3> berries;                                      // true front-surface centres, left camera, m
+  std::vector<Circle> circles;                                    // left image, px
+};
+
+AnalyticPair analytic_pair() {
+  AnalyticPair a;
+  StereoPair& p = a.pair;
+  p.fx = p.fy = 1000, p.cx = 399.5, p.cy = 299.5, p.baseline = 0.05;
+  const auto depth_of = [&](double d) { return p.fx * p.baseline / d; };
+  const double d_background = 40, d_stalk = 80;
+  a.stalk_depth = depth_of(d_stalk);
+  a.stalk_x0 = 396, a.stalk_x1 = 404, a.stalk_y0 = 120, a.stalk_y1 = 230;
+  // Berries of 16 px (10 mm at 0.625 m) in rows, apart, disparities 78-82 px.
+  struct B {
+    double x, y, d, highlight;  // highlight: each berry its own, so NCC tells them apart
+  };
+  std::vector<B> berries;
+  const int per_row[] = {5, 6, 5, 4, 3, 2};
+  for (int row = 0; row < 6; ++row) {
+    for (int k = 0; k < per_row[row]; ++k) {
+      const double x = 400 + (k - 0.5 * (per_row[row] - 1)) * 33, y = 250 + row * 29;  // 1-1.4 px apart
+      berries.push_back({x, y, 78.0 + ((row + k) % 3) * 2, 2.39996 * static_cast<double>(berries.size())});
+    }
+  }
+  for (RgbImage* im : {&p.left, &p.right}) {
+    const double side = im == &p.left ? 0 : 1;  // right image: everything moves left by its disparity
+    *im = testing::blank(800, 600, Colour{40, 100, 28});
+    testing::draw_foliage(*im, 21, side * d_background);
+    testing::draw_bar(*im, a.stalk_x0 - side * d_stalk, a.stalk_x1 - side * d_stalk, a.stalk_y0, a.stalk_y1,
+                      Colour{150, 125, 60});
+    // Nearest last: higher disparity is nearer.
+    std::vector<B> order = berries;
+    std::stable_sort(order.begin(), order.end(), [](const B& l, const B& r) { return l.d < r.d; });
+    for (const B& b : order) testing::draw_berry(*im, b.x - side * b.d, b.y, 16, b.highlight);
+  }
+  for (const B& b : berries) {
+    const double z = depth_of(b.d);
+    a.berries.push_back({(b.x - p.cx) * z / p.fx, (b.y - p.cy) * z / p.fy, z});
+    a.circles.push_back({b.x, b.y, 16});
+  }
+  return a;
+}
+
+TEST(Luo2016Stereo, FindsTheCuttingPointBerriesAndBoundingVolumeOfAnAnalyticPair) {
+  const AnalyticPair a = analytic_pair();
+  nlohmann::ordered_json params;
+  const EstimatorBinding bound = estimator_registry().create(
+      ConfigNode::load_string("type: luo2016_stereo\nberries:\n  radius_model: pinhole\n", "estimator.yaml"), params);
+  EXPECT_EQ(bound.input, "stereo_pair");
+  EstimatorInput in;
+  in.stereo = std::make_shared<StereoPair>(a.pair);
+  const Estimate e = bound.run(in);
+  ASSERT_TRUE(e.error.empty()) << e.error << "\n" << e.notes;
+
+  // The cutting point: on the stalk (an edge line's midpoint), at the stalk's depth.
+  ASSERT_EQ(e.points.size(), 1u);
+  const Vec3 cut = e.points[0].second;
+  const double u = a.pair.fx * cut.x() / cut.z() + a.pair.cx, v = a.pair.fy * cut.y() / cut.z() + a.pair.cy;
+  EXPECT_GE(u, a.stalk_x0 - 1.5);
+  EXPECT_LE(u, a.stalk_x1 + 1.5);
+  EXPECT_GE(v, a.stalk_y0);
+  EXPECT_LE(v, a.stalk_y1 + 1);
+  EXPECT_NEAR(cut.z(), a.stalk_depth, 0.01 * a.stalk_depth);
+
+  // Berries: most found, each within 2 px of a drawn one (touching discs pull the refit).
+  int found = 0;
+  for (const Detection& d : e.detections) {
+    for (const Circle& c : a.circles) found += std::hypot(d.circle.x - c.x, d.circle.y - c.y) < 2.0;
+  }
+  EXPECT_GE(found, 0.8 * static_cast<double>(a.circles.size())) << e.notes;
+
+  // Bounding volume: as revolved from the true cutting point and berry centres.
+  const Vec3 true_cut((0.5 * (a.stalk_x0 + a.stalk_x1) - a.pair.cx) * a.stalk_depth / a.pair.fx, cut.y(),
+                      a.stalk_depth);
+  const RevolvedBoundingVolume truth = revolved_bounding_volume(true_cut, a.berries);
+  double height = -1, diameter = -1, volume = -1;
+  for (const auto& [q, value] : e.values) {
+    if (q == Quantity::HangingHeight) height = value;
+    if (q == Quantity::MaxDiameter) diameter = value;
+    if (q == Quantity::Volume) volume = value;
+  }
+  EXPECT_NEAR(height, truth.height, 0.003);
+  EXPECT_NEAR(diameter, truth.max_diameter, 0.006);  // the cut lies on an edge: up to 4 px off the axis
+  EXPECT_NEAR(volume / truth.volume, 1, 0.15);
+}
+
+TEST(Luo2016Stereo, WithoutAStereoPairIsAnInputError) {
+  EXPECT_THROW(luo2016_estimate(EstimatorInput{}, Luo2016Params{}), InputError);
+}
+
+TEST(Luo2016Stereo, FailuresNameTheirStage) {
+  const AnalyticPair a = analytic_pair();
+  StereoPair flat = a.pair;
+  std::fill(flat.left.data.begin(), flat.left.data.end(), 90);
+  EXPECT_EQ(luo2016_stereo(flat, Luo2016Params{}).failure, "no cluster region");
+  Luo2016Params far;
+  far.matching.depth_min = 1.0;  // the stalk (0.625 m) lies outside the searched disparities
+  far.berries.radius_model = BerryCircleParams::RadiusModel::Pinhole;
+  EXPECT_NE(luo2016_stereo(a.pair, far).failure.find("cutting point not matched"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace grapebench
