@@ -123,7 +123,15 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
   const double half = 3.0;  // m: fills any view of this rig
 
   OffscreenContext gl(W, H);
-  auto render = [&](const Camera& cam, std::vector<std::uint8_t>& image, std::uint64_t noise_seed) {
+  const bool lamp = p_.light == StereoRgbParams::Light::Lamp;
+  const SunLight sun = sun_light(p_);
+  // From the scene towards the sun: azimuth about the vertical from "behind the camera".
+  const Vec3 back = Vec3(-view.x(), -view.y(), 0).normalized();
+  const double az = sun.azimuth_deg * M_PI / 180, el = sun.elevation_deg * M_PI / 180;
+  const Vec3 sun_dir = std::cos(el) * (Eigen::AngleAxisd(az, Vec3::UnitZ()) * back) + std::sin(el) * Vec3::UnitZ();
+  // One OpenGL image of a camera (RGB, top row first, 0-255), with or without the sun.
+  auto draw = [&](const Camera& cam, bool with_sun, std::vector<float>& image) {
+    const float backdrop = static_cast<float>(lamp ? 1.0 : std::min(1.0, sun.backdrop));
     const double n = 0.05, f = 20.0;
     glViewport(0, 0, W, H);
     glClearColor(0, 0, 0, 1);
@@ -135,20 +143,33 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
               cam.K.cy * n / cam.K.fy, n, f);
     glMatrixMode(GL_MODELVIEW);
     glLoadIdentity();
-    const GLfloat light_pos[4] = {0.2f, 0.5f, 0.0f, 1.0f};  // near the camera, a little above
-    const GLfloat white[4] = {1, 1, 1, 1}, dim[4] = {0.25f, 0.25f, 0.25f, 1};
     const GLfloat spec[4] = {static_cast<GLfloat>(p_.specular), static_cast<GLfloat>(p_.specular),
                              static_cast<GLfloat>(p_.specular), 1};
-    glLightfv(GL_LIGHT0, GL_POSITION, light_pos);
-    glLightfv(GL_LIGHT0, GL_DIFFUSE, white);
-    glLightfv(GL_LIGHT0, GL_SPECULAR, white);
-    glLightModelfv(GL_LIGHT_MODEL_AMBIENT, dim);
     // World to OpenGL eye: OpenCV camera frame with y and z flipped.
     Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
     M(1, 1) = -1;
     M(2, 2) = -1;
     const Eigen::Matrix4d view_m = M * cam.pose.inverse().matrix();
+    if (lamp) {
+      const GLfloat light_pos[4] = {0.2f, 0.5f, 0.0f, 1.0f};  // eye frame: near the camera, a little above
+      const GLfloat white[4] = {1, 1, 1, 1}, dim[4] = {0.25f, 0.25f, 0.25f, 1};
+      glLightfv(GL_LIGHT0, GL_POSITION, light_pos);
+      glLightfv(GL_LIGHT0, GL_DIFFUSE, white);
+      glLightfv(GL_LIGHT0, GL_SPECULAR, white);
+      glLightModelfv(GL_LIGHT_MODEL_AMBIENT, dim);
+    }
     glLoadMatrixd(view_m.data());  // column-major, as OpenGL wants
+    if (!lamp) {
+      // The sun: directional, in world coordinates (so set after the view matrix).
+      const auto k = static_cast<GLfloat>(with_sun ? sun.sun : 0.0), a = static_cast<GLfloat>(sun.ambient);
+      const GLfloat dir[4] = {static_cast<GLfloat>(sun_dir.x()), static_cast<GLfloat>(sun_dir.y()),
+                              static_cast<GLfloat>(sun_dir.z()), 0.0f};
+      const GLfloat diffuse[4] = {k, k, k, 1}, ambient[4] = {a, a, a, 1};
+      glLightfv(GL_LIGHT0, GL_POSITION, dir);
+      glLightfv(GL_LIGHT0, GL_DIFFUSE, diffuse);
+      glLightfv(GL_LIGHT0, GL_SPECULAR, diffuse);
+      glLightModelfv(GL_LIGHT_MODEL_AMBIENT, ambient);
+    }
     glEnable(GL_DEPTH_TEST);
 
     // Background.
@@ -161,9 +182,9 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, 256, 256, 0, GL_RGB, GL_UNSIGNED_BYTE, texture.data());
       glEnable(GL_TEXTURE_2D);
-      glColor3f(1, 1, 1);
+      glColor3f(backdrop, backdrop, backdrop);
     } else {
-      glColor3f(p_.plain_colour.r, p_.plain_colour.g, p_.plain_colour.b);
+      glColor3f(backdrop * p_.plain_colour.r, backdrop * p_.plain_colour.g, backdrop * p_.plain_colour.b);
     }
     glBegin(GL_QUADS);
     const double reps = 8;
@@ -200,23 +221,63 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
     glFinish();
     if (glGetError() != GL_NO_ERROR) throw InputError("stereo_rgb: OpenGL error while rendering");
 
-    // OSMesa's row 0 is the bottom; images are stored top row first. Sensor noise.
+    // OSMesa's row 0 is the bottom; images are stored top row first.
     image.resize(static_cast<std::size_t>(W) * H * 3);
-    const double sd = 2.0 * p_.noise_scale;
     for (int y = 0; y < H; ++y) {
       const unsigned char* src = gl.buffer.data() + static_cast<std::size_t>(H - 1 - y) * W * 4;
       for (int x = 0; x < W; ++x) {
-        for (int k = 0; k < 3; ++k) {
-          const std::size_t i = (static_cast<std::size_t>(y) * W + x) * 3 + k;
-          const double v = src[4 * x + k] + sd * hashed_normal(noise_seed, i);
-          image[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
-        }
+        for (int k = 0; k < 3; ++k) image[(static_cast<std::size_t>(y) * W + x) * 3 + k] = src[4 * x + k];
       }
     }
   };
+  // Sun light reaches a pixel unless the exact scene blocks the way from its surface
+  // point to the sun (the backdrop is not in the ray scene: always lit).
+  auto sunlit = [&](const Camera& cam, const OrganisedCloud& exact) {
+    std::vector<char> lit(exact.size(), 1);
+    std::vector<Vec3> from, to;
+    std::vector<std::size_t> pixel;
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+      if (!exact.valid[i]) continue;
+      const Vec3 world = cam.pose * exact.xyz[i].cast<double>();
+      const Vec3 n = cam.pose.linear() * exact.normal[i].cast<double>();
+      if (n.dot(sun_dir) <= 0) {
+        lit[i] = 0;  // turned away from the sun
+        continue;
+      }
+      from.push_back(world + 1e-4 * n);
+      to.push_back(world + 20.0 * sun_dir);
+      pixel.push_back(i);
+    }
+    std::vector<char> blocked;
+    scene.occluded(from, to, blocked);
+    for (std::size_t j = 0; j < pixel.size(); ++j) lit[pixel[j]] = !blocked[j];
+    return lit;
+  };
+  // The camera's image: lamp-lit as drawn; sun-lit where the sun reaches, else the
+  // ambient-only drawing; the backdrop scaled; exposure; sensor noise.
+  auto render = [&](const Camera& cam, const OrganisedCloud& exact, std::vector<std::uint8_t>& image,
+                    std::uint64_t noise_seed) {
+    std::vector<float> full, shade;
+    draw(cam, true, full);
+    std::vector<char> lit;
+    if (!lamp) {
+      draw(cam, false, shade);
+      lit = sunlit(cam, exact);
+    }
+    const double sd = 2.0 * p_.noise_scale;
+    image.resize(full.size());
+    for (std::size_t i = 0; i < full.size(); ++i) {
+      double v = full[i];
+      if (!lamp && exact.valid[i / 3] && !lit[i / 3]) v = shade[i];
+      if (!lamp && !exact.valid[i / 3]) v *= std::max(1.0, sun.backdrop);  // backlit leaves above white
+      v = p_.exposure * v + sd * hashed_normal(noise_seed, i);
+      image[i] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+    }
+  };
   out.baseline = p_.baseline;
-  render(left, out.left_image, derive_seed(seed, 2));
-  render(right, out.right_image, derive_seed(seed, 3));
+  render(left, out, out.left_image, derive_seed(seed, 2));
+  const OrganisedCloud right_exact = lamp ? OrganisedCloud{} : capture_exact(scene, right);
+  render(right, right_exact, out.right_image, derive_seed(seed, 3));
   // The cloud's colours are the left image's.
   for (std::size_t i = 0; i < out.size(); ++i) {
     if (out.valid[i]) out.rgb[i] = {out.left_image[3 * i], out.left_image[3 * i + 1], out.left_image[3 * i + 2]};
@@ -226,8 +287,25 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
 
 nlohmann::ordered_json StereoRgb::describe() const { return with_type(type(), stereo_rgb_param_table().to_json(p_)); }
 
+SunLight sun_light(const StereoRgbParams& p) {
+  using L = StereoRgbParams::Light;
+  switch (p.light) {
+    case L::Front:
+      return {45, 25, 0.8, 0.25, 1.0};  // sun behind the camera, a little aside
+    case L::Overshadow:
+      return {35, 180, 0.9, 0.18, 1.3};  // sun behind the cluster: its front in shadow, leaves backlit
+    case L::Overcast:
+      return {60, 0, 0.1, 0.7, 0.8};  // sky light, hardly any sun
+    case L::Lamp:
+    case L::Custom:
+      break;
+  }
+  return {p.sun_elevation_deg, p.sun_azimuth_deg, p.sun, p.ambient, p.backdrop};
+}
+
 const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
   using P = StereoRgbParams;
+  const auto custom = [](const P& p) { return p.light == P::Light::Custom; };
   static const ParamTable<P> table =
       ParamTable<P>()
           .integer("width", "px", &P::width, 64, 4096, "image width (seed 001: 800)")
@@ -244,7 +322,27 @@ const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
           .real("specular", "-", &P::specular, 0, 1, "specular strength of berries")
           .real("shininess", "-", &P::shininess, 1, 128, "Phong exponent")
           .integer("mesh_level", "count", &P::mesh_level, 1, 5, "icosphere level of the rendered berries")
-          .real("noise_scale", "-", &P::noise_scale, 0, 20, "image noise sd = 2/255 * noise_scale");
+          .real("noise_scale", "-", &P::noise_scale, 0, 20, "image noise sd = 2/255 * noise_scale")
+          .choice("light", &P::light,
+                  {{"lamp", P::Light::Lamp},
+                   {"front", P::Light::Front},
+                   {"overshadow", P::Light::Overshadow},
+                   {"overcast", P::Light::Overcast},
+                   {"custom", P::Light::Custom}},
+                  "lamp beside the camera; seed 001's sunny front light, sunny overshadow (sun behind the cluster) "
+                  "and overcast; or custom (sensors/stereo_rgb.h lists what each preset sets)")
+          .real("sun_elevation_deg", "deg", &P::sun_elevation_deg, -10, 90, "custom: sun above the horizon")
+          .when("light: custom", custom)
+          .real("sun_azimuth_deg", "deg", &P::sun_azimuth_deg, -180, 180,
+                "custom: sun about the vertical, 0 behind the camera, 180 behind the cluster")
+          .when("light: custom", custom)
+          .real("sun", "-", &P::sun, 0, 2, "custom: the sun's diffuse and specular strength")
+          .when("light: custom", custom)
+          .real("ambient", "-", &P::ambient, 0, 2, "custom: the sky's ambient strength")
+          .when("light: custom", custom)
+          .real("backdrop", "-", &P::backdrop, 0, 3, "custom: brightness of the backdrop (backlit leaves above 1)")
+          .when("light: custom", custom)
+          .real("exposure", "-", &P::exposure, 0.1, 10, "gain on every pixel before the noise");
   return table;
 }
 

@@ -23,7 +23,23 @@ struct StereoRgbParams {
   double shininess = 40;             // Phong exponent, [1, 128]
   int mesh_level = 3;                // icosphere level of the rendered berries, [1, 5]
   double noise_scale = 1.0;          // image noise sd = 2/255 * noise_scale, [0, 20]
+  // Light (seed 001 Sect. 3.1's three conditions as presets). lamp: a lamp beside the
+  // camera, no shadows (the default; images as before). The others are a directional
+  // sun with shadows cast in the exact ray scene (bunch and foliage) plus an ambient
+  // term; each preset sets the sun's elevation and azimuth (0: behind the camera,
+  // 180: behind the cluster, facing the camera), its strength, the ambient and how
+  // bright the backdrop is. custom: those five keys from the scene.
+  enum class Light { Lamp, Front, Overshadow, Overcast, Custom };
+  Light light = Light::Lamp;
+  double sun_elevation_deg = 45, sun_azimuth_deg = 25;  // custom only
+  double sun = 0.8, ambient = 0.25, backdrop = 1.0;     // custom only: relative intensities
+  double exposure = 1.0;                                // gain on every pixel before the noise, [0.1, 10]
 };
+// The sun of a light preset (custom: the params' own).
+struct SunLight {
+  double elevation_deg, azimuth_deg, sun, ambient, backdrop;
+};
+SunLight sun_light(const StereoRgbParams& p);
 // The scene keys of `sensor: {type: ...}` for this model.
 const ParamTable<StereoRgbParams>& stereo_rgb_param_table();
 

@@ -1,11 +1,14 @@
 // The OSMesa images agree with the exact ray-cast geometry of both cameras.
-#include "sensors/ideal.h"
 #include "sensors/stereo_rgb.h"
-#include "synth/generate.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <tuple>
+
+#include "sensors/ideal.h"
+#include "synth/generate.h"
 
 namespace grapebench {
 namespace {
@@ -58,6 +61,82 @@ TEST(StereoRgb, SameSeedSameImages) {
   const OrganisedCloud a = rig.capture(scene, pose, 8), b2 = rig.capture(scene, pose, 8);
   EXPECT_EQ(a.left_image, b2.left_image);
   EXPECT_EQ(a.right_image, b2.right_image);
+}
+
+// Seed 001's three lights: under the overshadow the cluster's front is in its own
+// shadow (darker than under front light) while the backlit leaves behind are brighter;
+// overcast light is flat (less contrast on the cluster than sunny front light); a sun
+// that a berry blocks leaves the berries behind it in cast shadow.
+TEST(StereoRgb, LightPresetsAndCastShadows) {
+  const Bunch b = generate_bunch(preset("table-red"), 6);
+  const RayScene scene(b);
+  StereoRgbParams p;
+  p.width = 320;
+  p.height = 240;
+  p.pixel_pitch_um = 15;
+  p.noise_scale = 0;
+  const Vec3 c = scene.bounds_centre();
+  const auto pose = look_at(c - Vec3(0, 0.6, 0), c);
+  // Mean grey level of the bunch's pixels and of the backdrop's.
+  auto means = [&](StereoRgbParams::Light light) {
+    p.light = light;
+    const OrganisedCloud f = StereoRgb(p).capture(scene, pose, 3);
+    double bunch = 0, bunch2 = 0, back = 0;
+    int nb = 0, nk = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const double g = (f.left_image[3 * i] + f.left_image[3 * i + 1] + f.left_image[3 * i + 2]) / 3.0;
+      if (f.valid[i])
+        bunch += g, bunch2 += g * g, ++nb;
+      else
+        back += g, ++nk;
+    }
+    const double mean = bunch / nb;
+    return std::tuple{mean, back / nk, std::sqrt(bunch2 / nb - mean * mean)};
+  };
+  using L = StereoRgbParams::Light;
+  const auto [front_bunch, front_back, front_sd] = means(L::Front);
+  const auto [over_bunch, over_back, over_sd] = means(L::Overshadow);
+  const auto [cast_bunch, cast_back, cast_sd] = means(L::Overcast);
+  std::printf(
+      "[stereo] mean grey bunch/backdrop (bunch sd): front %.1f/%.1f (%.1f), overshadow %.1f/%.1f (%.1f), "
+      "overcast %.1f/%.1f (%.1f)\n",
+      front_bunch, front_back, front_sd, over_bunch, over_back, over_sd, cast_bunch, cast_back, cast_sd);
+  EXPECT_GT(front_bunch, 1.3 * over_bunch);
+  EXPECT_GT(over_back, front_back);
+  EXPECT_GT(front_sd, 1.3 * cast_sd);
+  // Cast shadows: the same sun with and without the scene blocking it. With the sun
+  // grazing from the side most berries shade their neighbours.
+  p.light = L::Custom;
+  p.sun_elevation_deg = 10, p.sun_azimuth_deg = 80, p.sun = 1.0, p.ambient = 0.1;
+  const OrganisedCloud f = StereoRgb(p).capture(scene, pose, 3);
+  std::vector<Vec3> from, to;
+  const Vec3 back = Vec3(0, -1, 0);  // the camera looks along +y: behind it is -y
+  const double az = 80 * M_PI / 180, el = 10 * M_PI / 180;
+  const Vec3 sun = std::cos(el) * (Eigen::AngleAxisd(az, Vec3::UnitZ()) * back) + std::sin(el) * Vec3::UnitZ();
+  std::vector<std::size_t> pix;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!f.valid[i]) continue;
+    const Vec3 n = pose.linear() * f.normal[i].cast<double>();
+    if (n.dot(sun) < 0.5) continue;  // well lit when not blocked
+    const Vec3 w = pose * f.xyz[i].cast<double>();
+    from.push_back(w + 1e-4 * n), to.push_back(w + 20 * sun), pix.push_back(i);
+  }
+  std::vector<char> blocked;
+  scene.occluded(from, to, blocked);
+  double shadowed = 0, lit = 0;
+  int ns = 0, nl = 0;
+  for (std::size_t j = 0; j < pix.size(); ++j) {
+    const double g = f.left_image[3 * pix[j]];  // red: the berries' own channel
+    if (blocked[j])
+      shadowed += g, ++ns;
+    else
+      lit += g, ++nl;
+  }
+  ASSERT_GT(ns, 50);
+  ASSERT_GT(nl, 50);
+  std::printf("[stereo] facing the sun: lit %.1f (%d px), in cast shadow %.1f (%d px)\n", lit / nl, nl, shadowed / ns,
+              ns);
+  EXPECT_GT(lit / nl, 2 * shadowed / ns);
 }
 
 }  // namespace
