@@ -18,6 +18,8 @@
 #include <sstream>
 #include <thread>
 
+#include "synth/png.h"
+
 extern char** environ;
 
 namespace grapebench {
@@ -105,7 +107,8 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
       c, normals ? &in.normals : nullptr, viewpoints ? &in.viewpoints : nullptr, colours ? &in.colours : nullptr);
   nlohmann::ordered_json req;
   req["protocol"] = v2 ? "grapebench-estimator-2" : "grapebench-estimator-1";
-  if (v2) req["kind"] = in.frame ? "single_frame" : !in.views.empty() ? "multi_view" : "cloud";
+  if (v2)
+    req["kind"] = in.stereo ? "stereo_pair" : in.frame ? "single_frame" : !in.views.empty() ? "multi_view" : "cloud";
   req["cloud"] = (dir / "cloud.ply").string();
   req["points"] = n;
   req["units"] = "m";
@@ -130,6 +133,21 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
                      {"points", in.views[k].points.rows()}});
   }
   req["views"] = views;
+  if (in.stereo) {
+    const StereoPair& s = *in.stereo;
+    std::ofstream(dir / "left.png", std::ios::binary) << rgb_image_png(s.left.width, s.left.height, s.left.data);
+    std::ofstream(dir / "right.png", std::ios::binary) << rgb_image_png(s.right.width, s.right.height, s.right.data);
+    req["stereo"] = {{"left", (dir / "left.png").string()},
+                     {"right", (dir / "right.png").string()},
+                     {"width", s.left.width},
+                     {"height", s.left.height},
+                     {"fx", s.fx},
+                     {"fy", s.fy},
+                     {"cx", s.cx},
+                     {"cy", s.cy},
+                     {"baseline", s.baseline}};
+    return req;  // the pair is the whole hand-over: no frame, no ROI
+  }
   if (in.frame) {
     const InputFrame& f = *in.frame;
     req["frame"] = {{"index", f.index}, {"roi", f.roi}, {"region", f.region}, {"width", f.width}, {"height", f.height},
@@ -402,7 +420,12 @@ Estimate parse_external_answer(const nlohmann::json& a, const ExternalParams& p,
 
 Estimate external_estimate(const EstimatorInput& input, const ExternalParams& p) {
   if (p.command.empty()) throw InputError("external estimator: empty command");
-  require_points(input.points, 1, "external estimator");
+  if (p.input == ExternalParams::Input::StereoPair) {
+    if (!input.stereo)
+      throw InputError("external estimator: input: stereo_pair, and the protocol gives no stereo pair");
+  } else {
+    require_points(input.points, 1, "external estimator");
+  }
   const TempDir dir;
   const nlohmann::ordered_json req = write_request(dir.path, input, p);
   if (p.persistent) {
@@ -424,6 +447,9 @@ const ParamTable<ExternalParams>& external_param_table() {
           .integer("version", "-", &P::version, 1, 2,
                    "protocol version: 1 (x y z, scalars) or 2 (every attribute and output kind)")
           .boolean("persistent", &P::persistent, "one process answers many requests as JSON lines on stdin/stdout")
+          .when("version: 2", [](const P& p) { return p.version == 2; })
+          .choice("input", &P::input, {{"cloud", P::Input::Cloud}, {"stereo_pair", P::Input::StereoPair}},
+                  "what the program measures: the protocol's cloud, or a colour stereo pair (protocol stereo_pair)")
           .when("version: 2", [](const P& p) { return p.version == 2; });
   return table;
 }

@@ -4,14 +4,13 @@
 // is scripts/external/open3d_estimator.py).
 #pragma once
 
-#include "algorithms/estimate.h"
-#include "synth/param_table.h"
-
-#include <nlohmann/json.hpp>
-
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "algorithms/estimate.h"
+#include "synth/param_table.h"
 
 namespace grapebench {
 
@@ -32,6 +31,10 @@ struct ExternalParams {
   // requests, a JSON line each on stdin, an answer line each on stdout (Python's
   // start-up and imports paid once per run and thread, not per case).
   bool persistent = false;
+  // Version 2 only. What the program measures: the protocol's cloud, or a rectified
+  // colour stereo pair (protocol stereo_pair: left.png, right.png and the camera).
+  enum class Input { Cloud, StereoPair };
+  Input input = Input::Cloud;
   nlohmann::ordered_json params = nlohmann::ordered_json::object();  // passed through to the program
   // The running programs of persistent mode (set when the estimator is created).
   std::shared_ptr<PersistentPrograms> programs;

@@ -83,7 +83,7 @@ RegistryEntry<EstimatorBinding> external() {
         substitute_scene_dir(x.command, std::filesystem::path(n.file()).parent_path().string());
         if (x.persistent) x.programs = start_persistent_programs(x);
         return EstimatorBinding{x.quantities, [x](const EstimatorInput& in) { return external_estimate(in, x); },
-                                "cloud"};
+                                x.input == ExternalParams::Input::StereoPair ? "stereo_pair" : "cloud"};
       });
 }
 

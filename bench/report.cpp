@@ -1,11 +1,15 @@
 #include "bench/report.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
+
+#include "bench/stereo_tables.h"
 
 namespace grapebench {
 
@@ -18,11 +22,16 @@ const char* colour(std::size_t i) { return kPalette[i % 10]; }
 std::string esc(const std::string& s) {
   std::string o;
   for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else if (c == '"') o += "&quot;";
-    else o += c;
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else if (c == '"')
+      o += "&quot;";
+    else
+      o += c;
   }
   return o;
 }
@@ -47,7 +56,8 @@ std::vector<double> ticks(double lo, double hi) {
     }
   }
   std::vector<double> t;
-  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) t.push_back(std::abs(v) < 1e-12 * step ? 0 : v);
+  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step)
+    t.push_back(std::abs(v) < 1e-12 * step ? 0 : v);
   return t;
 }
 
@@ -73,7 +83,8 @@ std::string plot(const std::string& title, const std::string& xlabel, const std:
   }
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H << "\" viewBox=\"0 0 " << W
-    << " " << H << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    << " " << H
+    << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   o << "<text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << esc(title) << "</text>\n";
   if (!std::isfinite(x0)) {
     o << "<text x=\"" << W / 2 << "\" y=\"" << H / 2 << "\" text-anchor=\"middle\">no data</text></svg>\n";
@@ -96,15 +107,16 @@ std::string plot(const std::string& title, const std::string& xlabel, const std:
     << "\" fill=\"none\" stroke=\"#444\"/>\n";
   for (double t : ticks(x0, x1)) {
     o << "<line x1=\"" << px(t) << "\" x2=\"" << px(t) << "\" y1=\"" << T << "\" y2=\"" << H - B
-      << "\" stroke=\"#eee\"/><text x=\"" << px(t) << "\" y=\"" << H - B + 14 << "\" text-anchor=\"middle\">" << fmt(t, 4)
-      << "</text>\n";
+      << "\" stroke=\"#eee\"/><text x=\"" << px(t) << "\" y=\"" << H - B + 14 << "\" text-anchor=\"middle\">"
+      << fmt(t, 4) << "</text>\n";
   }
   for (double t : ticks(y0, y1)) {
     o << "<line x1=\"" << L << "\" x2=\"" << W - R << "\" y1=\"" << py(t) << "\" y2=\"" << py(t)
       << "\" stroke=\"#eee\"/><text x=\"" << L - 4 << "\" y=\"" << py(t) + 4 << "\" text-anchor=\"end\">" << fmt(t, 4)
       << "</text>\n";
   }
-  o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 10 << "\" text-anchor=\"middle\">" << esc(xlabel) << "</text>\n";
+  o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 10 << "\" text-anchor=\"middle\">" << esc(xlabel)
+    << "</text>\n";
   o << "<text transform=\"translate(14," << (T + H - B) / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << esc(ylabel)
     << "</text>\n";
   if (identity) {
@@ -152,8 +164,10 @@ std::string time_plot(const std::vector<std::string>& names, const std::vector<d
   if (mx <= 0) mx = 1;
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H << "\" viewBox=\"0 0 " << W
-    << " " << H << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-    << "<text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">time per run (median, p25-p75)</text>\n";
+    << " " << H
+    << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << "<text x=\"" << W / 2
+    << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">time per run (median, p25-p75)</text>\n";
   const auto px = [&](double v) { return L + v / mx * (W - L - R); };
   for (std::size_t i = 0; i < names.size(); ++i) {
     const double y = T + row * static_cast<double>(i);
@@ -162,8 +176,8 @@ std::string time_plot(const std::vector<std::string>& names, const std::vector<d
       << "<rect x=\"" << L << "\" y=\"" << y + 4 << "\" width=\"" << px(m) - L << "\" height=\"" << row - 8
       << "\" fill=\"" << colour(i) << "\"/>";
     if (std::isfinite(lo[i]) && std::isfinite(hi[i])) {
-      o << "<line x1=\"" << px(lo[i]) << "\" x2=\"" << px(hi[i]) << "\" y1=\"" << y + row / 2 << "\" y2=\"" << y + row / 2
-        << "\" stroke=\"black\"/>";
+      o << "<line x1=\"" << px(lo[i]) << "\" x2=\"" << px(hi[i]) << "\" y1=\"" << y + row / 2 << "\" y2=\""
+        << y + row / 2 << "\" stroke=\"black\"/>";
     }
     o << "<text x=\"" << px(m) + 4 << "\" y=\"" << y + 14 << "\">" << fmt(m * 1e3, 3) << " ms</text>\n";
   }
@@ -188,10 +202,12 @@ std::string grouped_bars(const std::string& title, const std::string& ylabel, co
   const auto py = [&](double v) { return T + (H - T - B) * (1 - v / mx); };
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H << "\" viewBox=\"0 0 " << W
-    << " " << H << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << " " << H
+    << "\" font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     << "<text x=\"" << W / 2 << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\">" << esc(title) << "</text>\n"
     << "<line x1=\"" << L << "\" x2=\"" << L << "\" y1=\"" << T << "\" y2=\"" << H - B << "\" stroke=\"black\"/>"
-    << "<line x1=\"" << L << "\" x2=\"" << W - R << "\" y1=\"" << H - B << "\" y2=\"" << H - B << "\" stroke=\"black\"/>\n";
+    << "<line x1=\"" << L << "\" x2=\"" << W - R << "\" y1=\"" << H - B << "\" y2=\"" << H - B
+    << "\" stroke=\"black\"/>\n";
   for (int k = 0; k <= 4; ++k) {
     const double v = mx * k / 4;
     o << "<text x=\"" << L - 4 << "\" y=\"" << py(v) + 4 << "\" text-anchor=\"end\">" << fmt(v, 2) << "</text>";
@@ -200,8 +216,8 @@ std::string grouped_bars(const std::string& title, const std::string& ylabel, co
     << ")\" text-anchor=\"middle\">" << esc(ylabel) << "</text>\n";
   for (std::size_t g = 0; g < groups.size(); ++g) {
     const double x0 = L + gw * static_cast<double>(g) + 0.1 * gw;
-    o << "<text x=\"" << L + gw * (static_cast<double>(g) + 0.5) << "\" y=\"" << H - B + 16 << "\" text-anchor=\"middle\">"
-      << esc(groups[g]) << "</text>";
+    o << "<text x=\"" << L + gw * (static_cast<double>(g) + 0.5) << "\" y=\"" << H - B + 16
+      << "\" text-anchor=\"middle\">" << esc(groups[g]) << "</text>";
     for (std::size_t i = 0; i < series.size(); ++i) {
       const double m = mean[i][g];
       if (!std::isfinite(m)) continue;
@@ -248,9 +264,10 @@ void header(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostring
     << "</title>\n<style>body{font-family:sans-serif;margin:24px;max-width:1500px}table{border-collapse:collapse;"
        "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}th{background:#f3f3f3}"
        "td.l,th.l{text-align:left}.plots{display:flex;flex-wrap:wrap;gap:8px}</style></head><body>\n";
-  h << "<h1>grapebench run: " << esc(set.base.name) << "</h1>\n<p>Scene file <code>" << esc(set.base.path) << "</code>, "
-    << cases.size() << " cases (" << set.conditions.size() << " condition(s) x "
-    << (set.conditions.empty() ? 0 : bunch_jobs(set.conditions[0].scene).size()) << " bunches). Errors are estimate - truth; "
+  h << "<h1>grapebench run: " << esc(set.base.name) << "</h1>\n<p>Scene file <code>" << esc(set.base.path)
+    << "</code>, " << cases.size() << " cases (" << set.conditions.size() << " condition(s) x "
+    << (set.conditions.empty() ? 0 : bunch_jobs(set.conditions[0].scene).size())
+    << " bunches). Errors are estimate - truth; "
     << "R2 is the squared correlation (the papers'), slope/intercept of the least-squares fit estimate = a truth + b. "
        "Volumes in cm3, lengths in mm.</p>\n";
 }
@@ -267,8 +284,8 @@ void scores_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std:
       << esc(r.estimator) << "</td><td class=l>" << r.quantity << " (" << display_unit(r.quantity) << ")</td><td>"
       << s.succeeded << "/" << s.cases << "</td><td>" << fmt(s.r2) << "</td><td>" << fmt(s.rmse) << "</td><td>"
       << fmt(s.mae) << "</td><td>" << fmt(s.bias) << "</td><td>" << fmt(s.mape) << "</td><td>" << fmt(s.slope)
-      << "</td><td>" << fmt(s.intercept) << "</td><td>" << fmt(s.time_median * 1e3) << "</td><td>" << fmt(r.peak_heap_mb_max)
-      << "</td></tr>\n";
+      << "</td><td>" << fmt(s.intercept) << "</td><td>" << fmt(s.time_median * 1e3) << "</td><td>"
+      << fmt(r.peak_heap_mb_max) << "</td></tr>\n";
   }
   h << "</table>\n";
 }
@@ -278,7 +295,8 @@ void pipeline_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, st
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   h << "<h2>Pipeline: segmentation, registration, cloud filters</h2>\n<table><tr><th class=l>condition</th>"
        "<th class=l>segmentation</th><th>precision</th><th>recall</th><th class=l>registration</th><th>cases</th>"
-       "<th>rotation error, mean of per-case max (deg)</th><th>worst (deg)</th><th>translation error, mean of max (mm)</th>"
+       "<th>rotation error, mean of per-case max (deg)</th><th>worst (deg)</th><th>translation error, mean of max "
+       "(mm)</th>"
        "<th>peduncle points kept</th><th>other bunch points kept</th><th>failed cases</th></tr>\n";
   const auto regs = registration_rows(set, cases);
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
@@ -286,9 +304,10 @@ void pipeline_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, st
     const auto& pl = set.conditions[c].scene.pipeline;
     h << "<tr><td class=l>" << esc(set.conditions[c].label) << "</td><td class=l>" << pl.segmentation_name();
     for (const auto& f : pl.view_filters) h << " + " << f.type;
-    h << "</td><td>" << fmt(r.segmentation_precision) << "</td><td>" << fmt(r.segmentation_recall) << "</td><td class=l>"
-      << registration_label(set.conditions[c].scene) << "</td><td>" << r.cases << "</td><td>" << fmt(r.rotation_max_deg_mean) << "</td><td>"
-      << fmt(r.rotation_max_deg_worst) << "</td><td>" << fmt(r.translation_max_mm_mean) << "</td><td>";
+    h << "</td><td>" << fmt(r.segmentation_precision) << "</td><td>" << fmt(r.segmentation_recall)
+      << "</td><td class=l>" << registration_label(set.conditions[c].scene) << "</td><td>" << r.cases << "</td><td>"
+      << fmt(r.rotation_max_deg_mean) << "</td><td>" << fmt(r.rotation_max_deg_worst) << "</td><td>"
+      << fmt(r.translation_max_mm_mean) << "</td><td>";
     if (pl.cloud_filters.empty()) {
       h << "-</td><td>-";
     } else {
@@ -321,8 +340,8 @@ void scatter_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std
       series.push_back(std::move(s));
     }
     const std::string unit = display_unit(q);
-    const std::string svg = plot(est + ": " + q, "true " + q + " (" + unit + ")", "estimated " + q + " (" + unit + ")",
-                                 series, true);
+    const std::string svg =
+        plot(est + ": " + q, "true " + q + " (" + unit + ")", "estimated " + q + " (" + unit + ")", series, true);
     rep.svgs["scatter_" + file_name(est) + "_" + q + ".svg"] = svg;
     h << svg;
   }
@@ -368,8 +387,8 @@ void sweep_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::
           }
           series.push_back(std::move(s));
         }
-        const std::string svg = plot(q + " error vs " + axis.key, axis.key,
-                                     q + " error, % (mean +- sd over bunches)", series, false);
+        const std::string svg =
+            plot(q + " error vs " + axis.key, axis.key, q + " error, % (mean +- sd over bunches)", series, false);
         rep.svgs["sweep_" + file_name(axis.key) + "_" + q + ".svg"] = svg;
         h << svg;
       }
@@ -385,7 +404,8 @@ const std::vector<std::string> kRoiKinds = {"auto_r", "auto_cm", "manual_r", "ma
 std::vector<std::string> size_error_estimators(const std::vector<SizeErrorCell>& cells) {
   std::vector<std::string> ests;
   for (const auto& c : cells) {
-    if (c.condition == -1 && std::find(ests.begin(), ests.end(), c.estimator) == ests.end()) ests.push_back(c.estimator);
+    if (c.condition == -1 && std::find(ests.begin(), ests.end(), c.estimator) == ests.end())
+      ests.push_back(c.estimator);
   }
   return ests;
 }
@@ -402,7 +422,9 @@ const SizeErrorCell* find_cell(const std::vector<SizeErrorCell>& cells, const st
 void size_error_table(const ReportContext& ctx, std::ostringstream& h) {
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   const auto ests = size_error_estimators(size_cells);
-  const auto find = [&](const std::string& e, const std::string& k, int cond) { return find_cell(size_cells, e, k, cond); };
+  const auto find = [&](const std::string& e, const std::string& k, int cond) {
+    return find_cell(size_cells, e, k, cond);
+  };
   h << "<h2>Size error (seed 003 Table II)</h2>\n<p>Err = 0.5 |G1 - L| + 0.5 |G2 - W| (Eq. 3; measures and truths "
        "larger first), cm, mean +- sd over the fine-tuned ROIs (count); Filter keeps Err &lt; 10 cm. All conditions "
        "pooled; precision is the mean fraction of a tuned ROI on the bunch. Per condition: size_error.csv.</p>\n"
@@ -411,7 +433,10 @@ void size_error_table(const ReportContext& ctx, std::ostringstream& h) {
   h << "</tr>\n";
   for (const auto& e : ests) {
     for (int f = 0; f < 3; ++f) {
-      h << "<tr><td class=l>" << (f ? "" : esc(e)) << "</td><td class=l>" << (f == 0 ? "All" : f == 1 ? "Filter" : "precision")
+      h << "<tr><td class=l>" << (f ? "" : esc(e)) << "</td><td class=l>"
+        << (f == 0   ? "All"
+            : f == 1 ? "Filter"
+                     : "precision")
         << "</td>";
       for (const auto& k : kRoiKinds) {
         const SizeErrorCell* c = find(e, k, -1);
@@ -434,10 +459,13 @@ void size_error_table(const ReportContext& ctx, std::ostringstream& h) {
 void size_error_figures(const ReportContext& ctx, Report& rep, std::ostringstream& h) {
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   const auto ests = size_error_estimators(size_cells);
-  const auto find = [&](const std::string& e, const std::string& k, int cond) { return find_cell(size_cells, e, k, cond); };
+  const auto find = [&](const std::string& e, const std::string& k, int cond) {
+    return find_cell(size_cells, e, k, cond);
+  };
   std::string est = ests.front(), roi = "manual_r";
   for (const auto& spec : set.base.estimators) {
-    if (spec.type == "percentile_box_edges" && std::find(ests.begin(), ests.end(), spec.name) != ests.end()) est = spec.name;
+    if (spec.type == "percentile_box_edges" && std::find(ests.begin(), ests.end(), spec.name) != ests.end())
+      est = spec.name;
   }
   if (!find(est, roi, -1)) roi = find(est, "auto_r", -1) ? "auto_r" : kRoiKinds.front();
   const auto axis_value = [&](std::size_t a, int cond) {
@@ -463,8 +491,10 @@ void size_error_figures(const ReportContext& ctx, Report& rep, std::ostringstrea
         for (std::size_t c = 0; c < set.conditions.size(); ++c) {
           const SizeErrorCell* cell = find(est, roi, static_cast<int>(c));
           if (!cell || cell->regions == 0) continue;
-          const auto gi = static_cast<std::size_t>(std::find(groups.begin(), groups.end(), axis_value(a, static_cast<int>(c))) - groups.begin());
-          const auto si = static_cast<std::size_t>(std::find(series.begin(), series.end(), series_of(static_cast<int>(c))) - series.begin());
+          const auto gi = static_cast<std::size_t>(
+              std::find(groups.begin(), groups.end(), axis_value(a, static_cast<int>(c))) - groups.begin());
+          const auto si = static_cast<std::size_t>(
+              std::find(series.begin(), series.end(), series_of(static_cast<int>(c))) - series.begin());
           const double k = cell->regions, m = 100 * cell->mean, sd = 100 * cell->sd;
           n[si][gi] += k;
           sum[si][gi] += k * m;
@@ -475,7 +505,8 @@ void size_error_figures(const ReportContext& ctx, Report& rep, std::ostringstrea
           for (std::size_t g = 0; g < groups.size(); ++g) {
             const double k = n[i][g];
             mean[i][g] = k > 0 ? sum[i][g] / k : std::nan("");
-            sdv[i][g] = k > 1 ? std::sqrt(std::max(0.0, (sq[i][g] - k * mean[i][g] * mean[i][g]) / (k - 1))) : std::nan("");
+            sdv[i][g] =
+                k > 1 ? std::sqrt(std::max(0.0, (sq[i][g] - k * mean[i][g] * mean[i][g]) / (k - 1))) : std::nan("");
           }
         }
         const std::string& ka = set.base.sweep[a].key;
@@ -531,8 +562,8 @@ void failures_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, st
   std::ostringstream fails;
   for (const auto& cr : cases) {
     if (!cr.ok) {
-      fails << "<tr><td>" << cr.condition << "</td><td>" << cr.bunch << "</td><td class=l>scan/registration</td><td class=l>"
-            << esc(cr.error) << "</td></tr>\n";
+      fails << "<tr><td>" << cr.condition << "</td><td>" << cr.bunch
+            << "</td><td class=l>scan/registration</td><td class=l>" << esc(cr.error) << "</td></tr>\n";
       continue;
     }
     for (const auto& r : cr.rows) {
@@ -543,7 +574,8 @@ void failures_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, st
     }
   }
   if (!fails.str().empty()) {
-    h << "<h2>Failures</h2>\n<table><tr><th>condition</th><th>bunch</th><th class=l>step</th><th class=l>error</th></tr>\n"
+    h << "<h2>Failures</h2>\n<table><tr><th>condition</th><th>bunch</th><th class=l>step</th><th "
+         "class=l>error</th></tr>\n"
       << fails.str() << "</table>\n";
   }
   h << "<p>Files: results.csv (one row per case, estimator and quantity), timings.csv, summary.json, timings.json, "
@@ -551,6 +583,46 @@ void failures_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, st
 }
 
 }  // namespace
+
+// Seed 001's tables (stereo_pair runs): Table 2, Table 1 and Fig. 11 of Luo et al. 2016.
+void stereo_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  std::vector<std::string> labels;
+  for (const auto& c : ctx.set.conditions) labels.push_back(c.label.empty() ? "all" : c.label);
+  const StereoTables t = stereo_tables(ctx.cases, labels);
+  if (t.empty()) return;
+  h << "<h2>Seed 001: cutting point, berries, depth</h2>\n<p>Table 2 of the paper: success of the cutting point "
+       "(within the scene's cut_tolerance of a stalk pixel of the exact label image) per condition, with Wilson 95 % "
+       "intervals (paper: 87 % over 300 images).</p>\n<table><tr><th class=l>estimator</th><th class=l>condition</th>"
+       "<th>pairs</th><th>successes</th><th>rate %</th><th>95 % interval</th></tr>\n";
+  for (const SuccessCell& s : t.success) {
+    h << "<tr><td class=l>" << esc(s.estimator) << "</td><td class=l>" << esc(s.condition) << "</td><td>" << s.pairs
+      << "</td><td>" << s.successes << "</td><td>" << fmt(100 * s.rate, 3) << "</td><td>" << fmt(100 * s.lo, 3) << "-"
+      << fmt(100 * s.hi, 3) << "</td></tr>\n";
+  }
+  h << "</table>\n<p>Table 1 (berries visible: at least the scene's berry_visible_fraction of the disc unoccluded; "
+       "found: matched by a detection, disc IoU >= 0.5) and Fig. 11 (mean |e_z|, |e_x| of the cutting point against "
+       "the surface behind its pixel, over the pairs that answered) by station depth, 100 mm bins.</p>\n"
+       "<table><tr><th class=l>estimator</th><th>depth mm</th><th>pairs</th><th>visible</th><th>found</th>"
+       "<th>rate %</th><th>answered</th><th>|e_z| mm</th><th>|e_x| mm</th></tr>\n";
+  std::map<std::string, std::array<Series, 2>> fig;
+  for (const DepthCell& d : t.depth) {
+    h << "<tr><td class=l>" << esc(d.estimator) << "</td><td>" << d.depth_mm << "</td><td>" << d.pairs << "</td><td>"
+      << d.visible << "</td><td>" << d.found << "</td><td>" << (d.visible ? fmt(100.0 * d.found / d.visible, 3) : "-")
+      << "</td><td>" << d.answered << "</td><td>" << (d.answered ? fmt(d.ez_mm, 3) : "-") << "</td><td>"
+      << (d.answered ? fmt(d.ex_mm, 3) : "-") << "</td></tr>\n";
+    if (!d.answered) continue;
+    auto& [ez, ex] = fig[d.estimator];
+    ez.name = ex.name = d.estimator;
+    ez.line = ex.line = true;
+    ez.x.push_back(d.depth_mm), ez.y.push_back(d.ez_mm);
+    ex.x.push_back(d.depth_mm), ex.y.push_back(d.ex_mm);
+  }
+  h << "</table>\n";
+  std::vector<Series> ez, ex;
+  for (const auto& [name, pair] : fig) ez.push_back(pair[0]), ex.push_back(pair[1]);
+  h << "<div class=plots>" << plot("Fig. 11a: mean |e_z| by depth", "depth (mm)", "|e_z| (mm)", ez, false)
+    << plot("Fig. 11b: mean |e_x| by depth", "depth (mm)", "|e_x| (mm)", ex, false) << "</div>\n";
+}
 
 Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores,
                    const std::vector<SizeErrorCell>& size_cells) {
@@ -562,8 +634,8 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
   }
   Report rep;
   std::ostringstream h;
-  for (auto section : {header, scores_section, pipeline_section, scatter_section, sweep_section, size_error_section,
-                       timing_section, failures_section}) {
+  for (auto section : {header, scores_section, pipeline_section, stereo_section, scatter_section, sweep_section,
+                       size_error_section, timing_section, failures_section}) {
     section(ctx, rep, h);
   }
   rep.html = h.str();

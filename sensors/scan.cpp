@@ -1,13 +1,14 @@
 #include "sensors/scan.h"
 
-#include "synth/io.h"
-#include "synth/rng.h"
-
 #include <png.h>
 
 #include <chrono>
 #include <cstring>
 #include <sstream>
+
+#include "synth/io.h"
+#include "synth/png.h"
+#include "synth/rng.h"
 
 namespace grapebench {
 
@@ -40,30 +41,6 @@ void put(std::string& s, T v) {
   s.append(b, sizeof(T));
 }
 
-void png_append(png_structp png, png_bytep data, png_size_t n) {
-  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), n);
-}
-
-// Encodes rows of `bytes_per_pixel` bytes (big-endian for 16-bit, as PNG wants).
-std::string png_bytes(int w, int h, int bit_depth, int colour_type, const std::vector<unsigned char>& pixels) {
-  std::string out;
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  if (!png || !info || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    throw InputError("PNG encoding failed");
-  }
-  png_set_write_fn(png, &out, png_append, nullptr);
-  png_set_IHDR(png, info, w, h, bit_depth, colour_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  const std::size_t row = pixels.size() / h;
-  for (int y = 0; y < h; ++y) png_write_row(png, const_cast<unsigned char*>(pixels.data() + y * row));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return out;
-}
-
 std::string json_matrix(const Eigen::Isometry3d& T) {
   std::ostringstream s;
   s.precision(17);
@@ -92,7 +69,8 @@ std::string pcd_bytes(const OrganisedCloud& c) {
     const float nan = NAN;
     const bool ok = c.valid[i];
     for (int k = 0; k < 3; ++k) put<float>(s, ok ? c.xyz[i][k] : nan);
-    const std::uint32_t rgb = ok ? (std::uint32_t(c.rgb[i][0]) << 16) | (std::uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2] : 0;
+    const std::uint32_t rgb =
+        ok ? (std::uint32_t(c.rgb[i][0]) << 16) | (std::uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2] : 0;
     put<std::uint32_t>(s, rgb);
     for (int k = 0; k < 3; ++k) put<float>(s, ok ? c.normal[i][k] : nan);
     put<std::uint32_t>(s, ok ? c.label[i] : static_cast<std::uint32_t>(Part::None));
@@ -173,18 +151,20 @@ void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::s
                                       base + "_label.png"};
     if (!v.cloud.left_image.empty()) {
       write_file_atomic(dir / (base + "_left.png"), image_png_bytes(v.cloud.width, v.cloud.height, v.cloud.left_image));
-      write_file_atomic(dir / (base + "_right.png"), image_png_bytes(v.cloud.width, v.cloud.height, v.cloud.right_image));
+      write_file_atomic(dir / (base + "_right.png"),
+                        image_png_bytes(v.cloud.width, v.cloud.height, v.cloud.right_image));
       files.push_back(base + "_left.png");
       files.push_back(base + "_right.png");
     }
     const auto& K = v.camera.K;
-    views.push_back({{"name", v.rig.name},
-                     {"camera_to_world", nlohmann::ordered_json::parse(json_matrix(v.rig.pose))},
-                     {"turntable_angle_deg", v.rig.turntable_angle_deg},
-                     {"intrinsics", {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy},
-                                     {"cx", K.cx}, {"cy", K.cy}}},
-                     {"valid_points", v.cloud.valid_count()},
-                     {"files", files}});
+    views.push_back(
+        {{"name", v.rig.name},
+         {"camera_to_world", nlohmann::ordered_json::parse(json_matrix(v.rig.pose))},
+         {"turntable_angle_deg", v.rig.turntable_angle_deg},
+         {"intrinsics",
+          {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}}},
+         {"valid_points", v.cloud.valid_count()},
+         {"files", files}});
   }
   m["views"] = views;
   write_file_atomic(dir / (stem + "_scan.json"), m.dump(1) + "\n");

@@ -1,18 +1,19 @@
 // The harness: sweeps, strict estimator sections, resume, shards, determinism, check.
-#include "bench/bench_compare.h"
-#include "bench/check.h"
-#include "bench/runner.h"
-#include "scene_error.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include "bench/bench_compare.h"
+#include "bench/check.h"
+#include "bench/runner.h"
+#include "scene_error.h"
 
 namespace grapebench {
 namespace {
@@ -117,7 +118,8 @@ TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
   EXPECT_NE(m.find("pipeline.registration.icp.max_iterations"), std::string::npos) << m;
   EXPECT_NE(m.find("[1, 10000]"), std::string::npos) << m;
   // ICP settings mean nothing with the true poses: an error, not a silent default.
-  m = error_of(std::string(kScene) + "pipeline:\n  registration:\n    type: true_poses\n    icp:\n      max_iterations: 5\n");
+  m = error_of(std::string(kScene) +
+               "pipeline:\n  registration:\n    type: true_poses\n    icp:\n      max_iterations: 5\n");
   EXPECT_NE(m.find("scene.yaml:24: unknown key 'pipeline.registration.icp'"), std::string::npos) << m;
 }
 
@@ -129,7 +131,8 @@ TEST(Pipeline, FilterStepsAreRegisteredAndStrict) {
   EXPECT_NE(m.find("scene.yaml:24"), std::string::npos) << m;
   EXPECT_NE(m.find("pipeline.cloud_filters[0].leaf"), std::string::npos) << m;
   EXPECT_NE(m.find("[0.0001, 1]"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "pipeline:\n  view_filters:\n    - type: pass_through\n      min: [0, 0, 1]\n      max: [1, 1, 0.5]\n");
+  m = error_of(std::string(kScene) +
+               "pipeline:\n  view_filters:\n    - type: pass_through\n      min: [0, 0, 1]\n      max: [1, 1, 0.5]\n");
   EXPECT_NE(m.find("must exceed `min`"), std::string::npos) << m;
   m = error_of(std::string(kScene) + "pipeline:\n  cloud_filters:\n    - type: mls\n      radios: 0.01\n");
   EXPECT_NE(m.find("unknown key 'pipeline.cloud_filters[0].radios'"), std::string::npos) << m;
@@ -254,8 +257,10 @@ pipeline:
   std::map<std::string, nlohmann::json> by_name;
   for (const auto& row : summary["scores"]) by_name[row["estimator"].get<std::string>()] = row;
   ASSERT_TRUE(by_name.count("PB_centroid") && by_name.count("PB_facing"));
-  for (const char* name : {"PB_centroid", "PB_facing"}) EXPECT_EQ(by_name[name]["succeeded"].get<int>(), 3) << by_name[name].dump();
-  const double centroid = by_name["PB_centroid"]["rmse"].get<double>(), facing = by_name["PB_facing"]["rmse"].get<double>();
+  for (const char* name : {"PB_centroid", "PB_facing"})
+    EXPECT_EQ(by_name[name]["succeeded"].get<int>(), 3) << by_name[name].dump();
+  const double centroid = by_name["PB_centroid"]["rmse"].get<double>(),
+               facing = by_name["PB_facing"]["rmse"].get<double>();
   std::printf("[facing] PB screened on 3 four-view scans: RMSE %.1f cm3 centroid, %.1f cm3 facing\n", centroid, facing);
   // Measured: 255 against 371 cm3. Every viewpoint at the frame's origin (a wrong
   // frame) gives 310, which this bound rejects.
@@ -331,13 +336,22 @@ TEST(CompareBench, FlagsASlowdownByRatioAndUTest) {
     nlohmann::json j;
     j["benchmarks"] = nlohmann::json::array();
     for (int r = 0; r < 5; ++r) {
-      j["benchmarks"].push_back({{"name", "BM_A"}, {"run_name", "BM_A"}, {"run_type", "iteration"},
-                                 {"real_time", scale * (10 + 0.1 * r)}, {"time_unit", "ms"}});
-      j["benchmarks"].push_back({{"name", "BM_B"}, {"run_name", "BM_B"}, {"run_type", "iteration"},
-                                 {"real_time", other * (5 + 0.1 * r)}, {"time_unit", "ms"}});
+      j["benchmarks"].push_back({{"name", "BM_A"},
+                                 {"run_name", "BM_A"},
+                                 {"run_type", "iteration"},
+                                 {"real_time", scale * (10 + 0.1 * r)},
+                                 {"time_unit", "ms"}});
+      j["benchmarks"].push_back({{"name", "BM_B"},
+                                 {"run_name", "BM_B"},
+                                 {"run_type", "iteration"},
+                                 {"real_time", other * (5 + 0.1 * r)},
+                                 {"time_unit", "ms"}});
     }
-    j["benchmarks"].push_back({{"name", "BM_A_mean"}, {"run_name", "BM_A"}, {"run_type", "aggregate"},
-                               {"real_time", 1e9}, {"time_unit", "ms"}});
+    j["benchmarks"].push_back({{"name", "BM_A_mean"},
+                               {"run_name", "BM_A"},
+                               {"run_type", "aggregate"},
+                               {"real_time", 1e9},
+                               {"time_unit", "ms"}});
     return j;
   };
   const BenchComparison same = compare_benchmarks(file(1, 1), file(1.02, 1), 0.1);
@@ -345,23 +359,25 @@ TEST(CompareBench, FlagsASlowdownByRatioAndUTest) {
   const BenchComparison slow = compare_benchmarks(file(1, 1), file(1, 1.5), 0.1);
   EXPECT_TRUE(slow.slower) << slow.table;
   EXPECT_NE(slow.table.find("SLOWER"), std::string::npos);
-  EXPECT_EQ(slow.table.find("BM_A                                         10"), std::string::npos);  // aggregates ignored
+  EXPECT_EQ(slow.table.find("BM_A                                         10"),
+            std::string::npos);  // aggregates ignored
 }
 
 TEST(External, TheOpen3dExampleRunsThroughTheProtocol) {
   // Open3D's hull of the same points must agree with CGAL's; a program that fails or
   // answers without the quantity marks its rows failed, with the reason.
   const std::string script = std::string(GRAPEBENCH_SOURCE_DIR) + "/scripts/external/open3d_estimator.py";
-  const std::string yaml = std::string(kScene) +
-                           "  - type: external\n    name: o3d_hull\n    command: [/usr/bin/python3, " + script +
-                           ", --method, convex_hull]\n"
-                           "  - type: external\n    name: broken\n    command: [/bin/sh, -c, 'echo no luck >&2; exit 3', sh]\n"
-                           "  - type: external\n    name: silent\n    command: [/bin/true]\n    quantities: [volume, height]\n";
+  const std::string yaml =
+      std::string(kScene) + "  - type: external\n    name: o3d_hull\n    command: [/usr/bin/python3, " + script +
+      ", --method, convex_hull]\n"
+      "  - type: external\n    name: broken\n    command: [/bin/sh, -c, 'echo no luck >&2; exit 3', sh]\n"
+      "  - type: external\n    name: silent\n    command: [/bin/true]\n    quantities: [volume, height]\n";
   const fs::path out = fresh_dir("external");
   run_scene_set(parse_scene_set(yaml, "ext.yaml"), quiet(out, 2));
   const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
   std::map<std::string, nlohmann::json> by_name;
-  for (const auto& r : summary["scores"]) by_name[r["estimator"].get<std::string>() + "/" + r["quantity"].get<std::string>()] = r;
+  for (const auto& r : summary["scores"])
+    by_name[r["estimator"].get<std::string>() + "/" + r["quantity"].get<std::string>()] = r;
   ASSERT_EQ(by_name["o3d_hull/volume"]["succeeded"].get<int>(), 3) << slurp(out / "results.csv");
   EXPECT_NEAR(by_name["o3d_hull/volume"]["rmse"].get<double>(), by_name["CH/volume"]["rmse"].get<double>(), 1e-3);
   EXPECT_EQ(by_name["broken/volume"]["succeeded"].get<int>(), 0);
@@ -370,7 +386,8 @@ TEST(External, TheOpen3dExampleRunsThroughTheProtocol) {
   EXPECT_NE(csv.find("failed (exit status 3): no luck"), std::string::npos) << csv;
   EXPECT_NE(csv.find("wrote no answer.json"), std::string::npos) << csv;
   // Scene errors of the external entry name the line.
-  const std::string m = error_of(std::string(kScene) + "  - type: external\n    quantities: [mass]\n    command: [x]\n");
+  const std::string m =
+      error_of(std::string(kScene) + "  - type: external\n    quantities: [mass]\n    command: [x]\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("'estimators[3].quantities': unknown value 'mass'; allowed: volume"), std::string::npos) << m;
 }
@@ -397,13 +414,16 @@ EstimatorRows rows_of(const std::string& csv, const std::string& estimator) {
     std::vector<std::string> f(1);
     bool quoted = false;
     for (char ch : line) {
-      if (ch == '"') quoted = !quoted;
-      else if (ch == ',' && !quoted) f.emplace_back();
-      else f.back() += ch;
+      if (ch == '"')
+        quoted = !quoted;
+      else if (ch == ',' && !quoted)
+        f.emplace_back();
+      else
+        f.back() += ch;
     }
     if (f[col("estimator")] != estimator) continue;
-    const std::string key = f[col("condition")] + "/" + f[col("bunch")] + "/" + f[col("frame")] + "/" +
-                            f[col("roi")] + "/" + f[col("region")] + "/" + f[col("quantity")];
+    const std::string key = f[col("condition")] + "/" + f[col("bunch")] + "/" + f[col("frame")] + "/" + f[col("roi")] +
+                            "/" + f[col("region")] + "/" + f[col("quantity")];
     out.estimate[key] = f[col("estimate")] == "NaN" ? std::nan("") : std::stod(f[col("estimate")]);
     out.notes.push_back(f[col("notes")]);
   }
@@ -479,7 +499,8 @@ TEST(External, ProtocolTwoOnMultiViewPerCaseAndPersistent) {
   for (const auto& [k, v] : rows_of(csv, "pca_box").estimate) builtin.estimate[k] = v;
   expect_same_rows(per_case, builtin, 1e-6, "Open3D/numpy vs CGAL hull and PCA box");
   for (const auto& n : persistent.notes) {
-    EXPECT_NE(n.find("grapebench-estimator-2, multi_view, 4 views, normals+viewpoints+colours"), std::string::npos) << n;
+    EXPECT_NE(n.find("grapebench-estimator-2, multi_view, 4 views, normals+viewpoints+colours"), std::string::npos)
+        << n;
   }
   print_timings(out, "multi_view");
 }
@@ -524,6 +545,72 @@ estimators:
   }
   EXPECT_TRUE(manual);
   print_timings(out, "single_frame");
+}
+
+// The stereo_pair protocol (seed 001): the built-in system and two external programs
+// of the stereo request (the schema checker and the numpy baseline, per case and
+// persistent) on the same pairs; every output kind is scored per pair.
+TEST(External, StereoPairRequestAndPointAnswer) {
+  const std::string source = GRAPEBENCH_SOURCE_DIR;
+  std::string yaml = R"(name: pairs
+seed: 4
+protocol: stereo_pair
+bunches:
+  - preset: summer-black
+    count: 2
+sensor:
+  type: stereo_rgb
+  light: front
+rig:
+  type: stereo_stations
+  distances: [0.6, 0.8]
+estimators:
+  - {type: luo2016_stereo, name: luo, berries: {radius_model: pinhole}}
+)";
+  for (const char* mode : {"per_case", "persistent"}) {
+    const bool persistent = std::string(mode) == "persistent";
+    const std::string flag = persistent ? ", --persistent" : "", keep = persistent ? "    persistent: true\n" : "";
+    yaml += std::string("  - type: external\n    name: schema_") + mode + "\n    version: 2\n    input: stereo_pair\n" +
+            keep + "    quantities: [hanging_height]\n" + "    command: [/usr/bin/python3, " + source +
+            "/tests/bench/data/schema_check.py, " + source + "/docs/external-protocol.schema.json" + flag + "]\n";
+    yaml += std::string("  - type: external\n    name: numpy_") + mode + "\n    version: 2\n    input: stereo_pair\n" +
+            keep + "    quantities: [hanging_height]\n    command: [/usr/bin/python3, " + source +
+            "/scripts/external/stereo_baseline.py" + flag + "]\n";
+  }
+  const fs::path out = fresh_dir("external_stereo_pair");
+  run_scene_set(parse_scene_set(yaml, "pairs.yaml"), quiet(out, 2));
+  const std::string csv = slurp(out / "results.csv");
+  // The checker answers no point, so only its scalar rows are finite.
+  for (const char* name : {"schema_per_case", "schema_persistent"}) {
+    const EstimatorRows rows = rows_of(csv, name);
+    ASSERT_FALSE(rows.notes.empty()) << name;
+    for (const auto& n : rows.notes)
+      EXPECT_NE(n.find("schema ok: grapebench-estimator-2 stereo_pair"), std::string::npos) << n;
+    for (const auto& [key, v] : rows.estimate) {
+      if (key.ends_with("/hanging_height")) {
+        EXPECT_FALSE(std::isnan(v)) << name << " " << key;
+      }
+    }
+  }
+  const EstimatorRows per_case = rows_of(csv, "numpy_per_case"), persistent = rows_of(csv, "numpy_persistent");
+  expect_same_rows(per_case, persistent, 0, "persistent vs per case");
+  // Every pair gives each output kind's rows: 2 bunches x 2 stations.
+  for (const char* q : {"cut_success", "cut_z", "cut_x", "cut_axis_distance", "hanging_height", "berries_found"}) {
+    int n = 0;
+    for (const auto& [key, v] : per_case.estimate)
+      n += key.size() > std::strlen(q) && key.ends_with(std::string("/") + q);
+    EXPECT_EQ(n, 4) << q;
+  }
+  // The baseline's cutting point is a point answer scored like the built-in's: its
+  // distance from the stalk's axis is finite wherever it answered.
+  int answered = 0;
+  for (const auto& [key, v] : per_case.estimate) answered += key.ends_with("/cut_axis_distance") && std::isfinite(v);
+  EXPECT_EQ(answered, 4) << csv;
+  const EstimatorRows luo = rows_of(csv, "luo");
+  double successes = 0;
+  for (const auto& [key, v] : luo.estimate) successes += key.ends_with("/cut_success") ? v : 0;
+  EXPECT_GT(successes, 0) << csv;
+  print_timings(out, "stereo_pair");
 }
 
 // Seed 003's single-frame pipeline: rows per frame and ROI kind, the perfect manual

@@ -18,6 +18,11 @@ def check(schema, req):
     for a, prop in (("normals", "nx"), ("viewpoints", "vx"), ("colours", "red")):
         if (a in req.get("attributes", [])) != ("property" in head and (" %s\n" % prop) in head):
             raise ValueError("attribute %s and the PLY header disagree" % a)
+    if "stereo" in req:
+        for side in ("left", "right"):
+            with open(req["stereo"][side], "rb") as f:
+                if f.read(8) != b"\x89PNG\r\n\x1a\n":
+                    raise ValueError("%s: not a PNG file" % req["stereo"][side])
     answer = {q: 1e-9 if q == "volume" else 1e-3 for q in req["quantities"]}
     answer["notes"] = "schema ok: %s %s" % (req["protocol"], req.get("kind", ""))
     jsonschema.validate(answer, {"$ref": "#/$defs/answer", "$defs": schema["$defs"]})
