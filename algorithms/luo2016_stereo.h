@@ -41,6 +41,8 @@ struct Luo2016Result {
   bool ok() const { return failure.empty(); }
 };
 
+// Throws InputError when the images differ in size, are not W x H x 3 or are smaller
+// than the matching window, or the camera is degenerate.
 Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p);
 
 // The system as an estimator: the point "cutting_point" (left camera frame, m) when it

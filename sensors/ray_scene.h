@@ -5,9 +5,6 @@
 // rays that can only reach the plane never enter Embree.
 #pragma once
 
-#include "synth/foliage.h"
-#include "synth/types.h"
-
 #include <embree3/rtcore.h>
 
 #include <cmath>
@@ -15,6 +12,9 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "synth/foliage.h"
+#include "synth/types.h"
 
 namespace grapebench {
 
@@ -27,11 +27,11 @@ struct BackgroundPlane {
 };
 
 struct Hit {
-  double t = -1;            // distance along the unit ray direction, m; < 0: miss
+  double t = -1;               // distance along the unit ray direction, m; < 0: miss
   Vec3 point = Vec3::Zero();   // m, world
   Vec3 normal = Vec3::Zero();  // unit, world, facing the ray
   Part part = Part::None;
-  int berry = -1;  // berry id for berries and their pedicels, else -1
+  int berry = -1;      // berry id for berries and their pedicels, else -1
   int primitive = -1;  // berry or stem index; -1 for the plane
   Rgb colour;
   double cos_incidence = 0;  // cosine between the normal and the reversed ray, [0, 1]
@@ -81,13 +81,16 @@ class RayScene {
   // The background plane alone (analytic); a miss when there is none.
   Hit background_hit(const Ray& ray) const { return plane_hit(ray); }
   // Whether Embree holds anything (bunch or foliage): else only the plane can be hit.
-  bool has_bunch() const { return !state_->bunch.berries.empty() || !state_->stems.empty() || !state_->foliage.triangles.empty(); }
+  bool has_bunch() const {
+    return !state_->bunch.berries.empty() || !state_->stems.empty() || !state_->foliage.triangles.empty();
+  }
 
   // Raw Embree cast of the same packets with no refinement or labels: the
   // reference loop the sensor models are benchmarked against.
   std::size_t raw_intersect_count(const std::vector<Ray>& rays) const;
 
   const Bunch& bunch() const { return state_->bunch; }
+  const Foliage& foliage() const { return state_->foliage; }
   const std::optional<BackgroundPlane>& background() const { return background_; }
   // Bounding sphere of everything Embree holds (bunch and foliage), m: the pixels the
   // sensors trace.

@@ -66,6 +66,42 @@ RenderMesh render_mesh(const Bunch& bunch, int level) {
   return r;
 }
 
+// The scene's foliage as the ray scene holds it: leaf triangles (flat, both faces lit)
+// and canes as 12-sided tubes with flat caps, one colour each.
+RenderMesh foliage_mesh(const Foliage& f) {
+  RenderMesh r;
+  auto vertex = [&](const Vec3& p, const Vec3& n, const Rgb& c) {
+    for (int k = 0; k < 3; ++k) {
+      r.position.push_back(static_cast<float>(p[k]));
+      r.normal.push_back(static_cast<float>(n[k]));
+    }
+    r.colour.insert(r.colour.end(), {c.r, c.g, c.b});
+    r.index.push_back(static_cast<unsigned>(r.index.size()));
+  };
+  for (std::size_t t = 0; t < f.triangles.size(); ++t) {
+    const auto& tri = f.triangles[t];
+    const Vec3 &a = f.vertices[tri[0]], &b = f.vertices[tri[1]], &c = f.vertices[tri[2]];
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    for (const Vec3* p : {&a, &b, &c}) vertex(*p, n, f.triangle_colour[t]);
+  }
+  constexpr int sides = 12;
+  for (const Stem& s : f.canes) {
+    const Vec3 d = (s.end - s.start).normalized();
+    const Vec3 e1 = d.unitOrthogonal(), e2 = d.cross(e1);
+    for (int k = 0; k < sides; ++k) {
+      const double a0 = 2 * M_PI * k / sides, a1 = 2 * M_PI * (k + 1) / sides;
+      const Vec3 n0 = std::cos(a0) * e1 + std::sin(a0) * e2, n1 = std::cos(a1) * e1 + std::sin(a1) * e2;
+      const Vec3 p00 = s.start + s.radius * n0, p01 = s.start + s.radius * n1;
+      const Vec3 p10 = s.end + s.radius * n0, p11 = s.end + s.radius * n1;
+      vertex(p00, n0, f.cane_colour), vertex(p10, n0, f.cane_colour), vertex(p11, n1, f.cane_colour);
+      vertex(p00, n0, f.cane_colour), vertex(p11, n1, f.cane_colour), vertex(p01, n1, f.cane_colour);
+      vertex(s.start, -d, f.cane_colour), vertex(p01, -d, f.cane_colour), vertex(p00, -d, f.cane_colour);
+      vertex(s.end, d, f.cane_colour), vertex(p10, d, f.cane_colour), vertex(p11, d, f.cane_colour);
+    }
+  }
+  return r;
+}
+
 // Procedural foliage: overlapping leaf-green blobs, deterministic in `seed`.
 std::vector<unsigned char> foliage_texture(int size, std::uint64_t seed) {
   std::vector<float> img(static_cast<std::size_t>(size) * size * 3, 0.0f);
@@ -114,6 +150,7 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
   OrganisedCloud out = capture_exact(scene, left);
 
   const RenderMesh mesh = render_mesh(scene.bunch(), p_.mesh_level);
+  const RenderMesh leaves = foliage_mesh(scene.foliage());
   const int W = p_.width, H = p_.height;
   const std::vector<unsigned char> texture = foliage_texture(256, derive_seed(seed, 1));
   // A background square behind the bunch, facing the left camera.
@@ -211,10 +248,17 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
     glEnableClientState(GL_VERTEX_ARRAY);
     glEnableClientState(GL_NORMAL_ARRAY);
     glEnableClientState(GL_COLOR_ARRAY);
-    glVertexPointer(3, GL_FLOAT, 0, mesh.position.data());
-    glNormalPointer(GL_FLOAT, 0, mesh.normal.data());
-    glColorPointer(3, GL_FLOAT, 0, mesh.colour.data());
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh.index.size()), GL_UNSIGNED_INT, mesh.index.data());
+    for (const RenderMesh* m : {&mesh, &leaves}) {
+      if (m->index.empty()) continue;
+      // Leaves are thin sheets: both faces lit (two-sided lighting), no highlights.
+      glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, m == &leaves ? GL_TRUE : GL_FALSE);
+      const GLfloat none[4] = {0, 0, 0, 1};
+      glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, m == &leaves ? none : spec);
+      glVertexPointer(3, GL_FLOAT, 0, m->position.data());
+      glNormalPointer(GL_FLOAT, 0, m->normal.data());
+      glColorPointer(3, GL_FLOAT, 0, m->colour.data());
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m->index.size()), GL_UNSIGNED_INT, m->index.data());
+    }
     glDisableClientState(GL_VERTEX_ARRAY);
     glDisableClientState(GL_NORMAL_ARRAY);
     glDisableClientState(GL_COLOR_ARRAY);

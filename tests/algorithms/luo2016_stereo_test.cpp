@@ -108,6 +108,26 @@ TEST(Luo2016Stereo, WithoutAStereoPairIsAnInputError) {
   EXPECT_THROW(luo2016_estimate(EstimatorInput{}, Luo2016Params{}), InputError);
 }
 
+// Degenerate pairs fail with a reason, not a crash inside OpenCV.
+TEST(Luo2016Stereo, DegeneratePairsAreInputErrors) {
+  const StereoPair good = analytic_pair().pair;
+  StereoPair p = good;
+  p.right.width = 799;  // sizes differ
+  EXPECT_THROW(luo2016_stereo(p, Luo2016Params{}), InputError);
+  p = good;
+  p.left.data.resize(10);  // not W x H x 3
+  EXPECT_THROW(luo2016_stereo(p, Luo2016Params{}), InputError);
+  p = good;
+  p.left = p.right = RgbImage{4, 4, std::vector<std::uint8_t>(48, 100)};  // smaller than the window
+  EXPECT_THROW(luo2016_stereo(p, Luo2016Params{}), InputError);
+  p = good;
+  p.baseline = 0;
+  EXPECT_THROW(luo2016_stereo(p, Luo2016Params{}), InputError);
+  p = good;
+  p.fx = std::nan("");
+  EXPECT_THROW(luo2016_stereo(p, Luo2016Params{}), InputError);
+}
+
 TEST(Luo2016Stereo, FailuresNameTheirStage) {
   const AnalyticPair a = analytic_pair();
   StereoPair flat = a.pair;

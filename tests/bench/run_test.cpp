@@ -613,6 +613,33 @@ estimators:
   print_timings(out, "stereo_pair");
 }
 
+// The stereo_pair protocol gives the same results at any thread count (OpenCV's own
+// parallel loops included).
+TEST(Run, StereoPairResultsDoNotDependOnThreads) {
+  const std::string yaml = R"(name: pairs_threads
+seed: 8
+protocol: stereo_pair
+bunches:
+  - preset: table-red
+    count: 2
+sensor:
+  type: stereo_rgb
+  light: overcast
+foliage: {}
+rig:
+  type: stereo_stations
+  distances: [0.5, 0.9]
+estimators:
+  - {type: luo2016_stereo, segmentation: {component: cr}}
+)";
+  const SceneSet set = parse_scene_set(yaml, "pairs_threads.yaml");
+  const fs::path a = fresh_dir("stereo_threads_1"), b = fresh_dir("stereo_threads_2");
+  run_scene_set(set, quiet(a, 1));
+  run_scene_set(set, quiet(b, 2));
+  EXPECT_EQ(slurp(a / "results.csv"), slurp(b / "results.csv"));
+  EXPECT_EQ(slurp(a / "summary.json"), slurp(b / "summary.json"));
+}
+
 // Seed 003's single-frame pipeline: rows per frame and ROI kind, the perfect manual
 // ROI exactly on the bunch, Err (Eq. 3) recomputed from the rows, a named sweep axis.
 TEST(Run, SingleFramePipelineGivesTableTwoFromItsRows) {

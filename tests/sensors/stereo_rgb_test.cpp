@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "sensors/ideal.h"
+#include "synth/foliage.h"
 #include "synth/generate.h"
 
 namespace grapebench {
@@ -47,6 +48,37 @@ TEST(StereoRgb, RenderedSilhouettesMatchTheExactLabelsOfBothCameras) {
   EXPECT_GT(right, 0.97);
   // And the two views differ by the disparity: the right image is not the left one.
   EXPECT_NE(frame.left_image, frame.right_image);
+}
+
+// With the vine row's foliage in the ray scene, the images draw it too (leaves,
+// shoots, the cordon): rendered silhouettes of everything match the exact returns.
+TEST(StereoRgb, TheFoliageIsDrawnWhereTheRaySceneSeesIt) {
+  const Bunch b = generate_bunch(preset("summer-black"), 4);
+  const RayScene scene(b, std::nullopt, generate_foliage(FoliageParams{}, b, 9));
+  StereoRgbParams p;
+  p.background = StereoRgbParams::Background::Plain;
+  p.plain_colour = {0, 1, 0};
+  p.noise_scale = 0;
+  p.width = 400;
+  p.height = 300;
+  p.pixel_pitch_um = 12;
+  const StereoRgb rig(p);
+  const Vec3 c = scene.bounds_centre();
+  const OrganisedCloud frame = rig.capture(scene, look_at(c - Vec3(0, 0.9, 0), c), 1);
+  std::size_t both = 0, either = 0, foliage = 0;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    const auto* px = &frame.left_image[3 * i];
+    const bool rendered = !(px[0] < 10 && px[1] > 245 && px[2] < 10);
+    const bool truth = frame.valid[i] != 0;
+    both += rendered && truth;
+    either += rendered || truth;
+    foliage += frame.label[i] == static_cast<std::uint8_t>(Part::Leaf) ||
+               frame.label[i] == static_cast<std::uint8_t>(Part::Cane);
+  }
+  const double iou = static_cast<double>(both) / static_cast<double>(either);
+  std::printf("[stereo] with foliage (%zu leaf/cane pixels): silhouette IoU %.4f\n", foliage, iou);
+  EXPECT_GT(foliage, frame.size() / 10);
+  EXPECT_GT(iou, 0.97);
 }
 
 TEST(StereoRgb, SameSeedSameImages) {
