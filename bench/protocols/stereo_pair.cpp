@@ -141,7 +141,7 @@ std::vector<EstimateRow> cutting_point_rows(const EstimateRow& base, const Estim
 std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth) {
   if (!base.error.empty()) {
     return {row_of(base, "berries_found", 0, 0, false), row_of(base, "berry_precision", 0, 1, false),
-            row_of(base, "berry_centre_error", 0, 0, false)};
+            row_of(base, "berry_centre_error", 0, 0, false), row_of(base, "berry_radius_error", 0, 0, false)};
   }
   const DetectionScore s = score_detections(e.detections, truth.berries, DetectionMatch{});
   std::vector<EstimateRow> rows;
@@ -150,6 +150,8 @@ std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, 
       row_of(base, "berry_precision", s.precision, 1, s.detections > 0, s.detections ? "" : "no berry detected"));
   rows.push_back(
       row_of(base, "berry_centre_error", s.centre_error_mean, 0, s.matched > 0, s.matched ? "" : "no berry matched"));
+  rows.push_back(
+      row_of(base, "berry_radius_error", s.radius_error_mean, 0, s.matched > 0, s.matched ? "" : "no berry matched"));
   return rows;
 }
 

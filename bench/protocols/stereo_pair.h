@@ -39,7 +39,8 @@ StereoTruth stereo_truth(const ScanView& view, const Bunch& bunch, double visibl
 std::vector<EstimateRow> cutting_point_rows(const EstimateRow& base, const Estimate& e, const ScanView& view,
                                             const StereoTruth& truth, double tolerance);
 // Rows of the berry circles: berries_found (estimate: visible berries matched; truth:
-// visible berries; seed 001 Table 1), berry_precision, berry_centre_error (px).
+// visible berries; seed 001 Table 1), berry_precision, berry_centre_error (px, mean
+// over the matched) and berry_radius_error (px, signed mean, detection - truth).
 std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth);
 
 void measure_pairs(const Scene& scene, const Scan& scan, const Bunch& bunch, const GroundTruth& gt, CaseResult& r);

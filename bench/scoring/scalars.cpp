@@ -80,6 +80,7 @@ struct Unit {
 constexpr Unit kUnits[] = {
     {"volume", "cm3", 1e6},        {"envelope_volume", "cm3", 1e6}, {"cut_success", "-", 1},
     {"berries_found", "count", 1}, {"berry_precision", "-", 1},     {"berry_centre_error", "px", 1},
+    {"berry_radius_error", "px", 1},
 };
 
 }  // namespace
