@@ -96,6 +96,10 @@ struct EstimatorInput {
   std::vector<InputView> views;              // multi_view: the individual views
   std::optional<InputFrame> frame;           // single_frame: the frame and its ROI
   std::shared_ptr<const StereoPair> stereo;  // stereo_pair: the rectified colour pair (no cloud)
+  // classification: the class names (K) and, per point, the class index of the
+  // training part's points or -1 where the estimator must score (N, or empty).
+  std::vector<std::string> classes;
+  std::vector<int> train_labels;
 };
 
 // An estimator with its parameters bound (parsed and range-checked when the scene is

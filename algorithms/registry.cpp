@@ -7,6 +7,7 @@
 #include "algorithms/convex_hull_volume.h"
 #include "algorithms/cylinder_fit.h"
 #include "algorithms/cylinder_model_volume.h"
+#include "algorithms/dey2012_classification.h"
 #include "algorithms/ellipsoid_fit.h"
 #include "algorithms/ellipsoid_volume.h"
 #include "algorithms/external_estimator.h"
@@ -178,6 +179,15 @@ const Registry<EstimatorBinding>& estimator_registry() {
                 return EstimatorBinding{{Q::HangingHeight, Q::MaxDiameter, Q::Volume},
                                         [p](const EstimatorInput& in) { return luo2016_estimate(in, p); },
                                         "stereo_pair"};
+              }),
+          entry<EstimatorBinding>(
+              "dey2012_classification",
+              "seed 004's classifier on a coloured cloud with training labels: saliency and colour features, "
+              "LIBSVM's RBF SVM (or Lalonde's GMM), CRF smoothing; class scores per point (Dey et al. 2012)",
+              dey2012_param_table(), Dey2012Params{},
+              [](const Dey2012Params& p, const ConfigNode&) {
+                return EstimatorBinding{
+                    {}, [p](const EstimatorInput& in) { return dey2012_estimate(in, p); }, "labelled_cloud"};
               }),
           external(),
       });
