@@ -1,6 +1,7 @@
 #include "bench/outputs.h"
 
 #include "bench/case_scores.h"
+#include "bench/classification_tables.h"
 #include "bench/report.h"
 #include "bench/size_error.h"
 #include "synth/io.h"
@@ -86,6 +87,12 @@ std::string timings_csv(const SceneSet& set, const std::vector<CaseResult>& case
 
 nlohmann::ordered_json jnum(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); }
 
+std::vector<std::string> condition_labels(const SceneSet& set) {
+  std::vector<std::string> labels;
+  for (const auto& c : set.conditions) labels.push_back(c.label.empty() ? "all" : c.label);
+  return labels;
+}
+
 nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseResult>& cases,
                                     const std::vector<ScoreRow>& scores) {
   nlohmann::ordered_json j;
@@ -97,6 +104,13 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
   nlohmann::ordered_json conds = nlohmann::ordered_json::array();
   for (const auto& c : set.conditions) conds.push_back(c.label);
   j["conditions"] = conds;
+  // Seed 004: each classification row's mean over the cases, with its range.
+  nlohmann::ordered_json classes = nlohmann::ordered_json::array();
+  for (const ClassificationCell& c : classification_cells(cases, condition_labels(set))) {
+    classes.push_back({{"condition", c.condition}, {"estimator", c.estimator}, {"quantity", c.quantity},
+                       {"cases", c.cases}, {"mean", jnum(c.mean)}, {"min", jnum(c.min)}, {"max", jnum(c.max)}});
+  }
+  if (!classes.empty()) j["classification"] = classes;
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const auto& r : scores) {
     const Score& s = r.score;
@@ -192,7 +206,7 @@ nlohmann::ordered_json manifest_json(const SceneSet& set, int threads) {
   return j;
 }
 
-std::string leaderboard(const SceneSet& set, const std::vector<ScoreRow>& scores) {
+std::string leaderboard(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores) {
   std::ostringstream s;
   char line[256];
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
@@ -221,6 +235,17 @@ std::string leaderboard(const SceneSet& set, const std::vector<ScoreRow>& scores
       s << line;
     }
   }
+  const std::vector<ClassificationCell> cells = classification_cells(cases, condition_labels(set));
+  if (!cells.empty()) {
+    std::snprintf(line, sizeof line, "  %-18s %-16s %-18s %5s %8s %8s %8s\n", "condition", "estimator", "quantity",
+                  "cases", "mean", "min", "max");
+    s << "classification (test part of each row section):\n" << line;
+    for (const ClassificationCell& c : cells) {
+      std::snprintf(line, sizeof line, "  %-18s %-16s %-18s %5d %8.4f %8.4f %8.4f\n", c.condition.c_str(),
+                    c.estimator.c_str(), c.quantity.c_str(), c.cases, c.mean, c.min, c.max);
+      s << line;
+    }
+  }
   return s.str();
 }
 
@@ -243,7 +268,7 @@ std::string write_outputs(const SceneSet& set, const std::vector<CaseResult>& ca
   fs::create_directories(out / "plots");
   for (const auto& [name, svg] : report.svgs) write_file_atomic(out / "plots" / name, svg);
   write_file_atomic(out / "report.html", report.html);
-  return leaderboard(set, scores);
+  return leaderboard(set, cases, scores);
 }
 
 }  // namespace grapebench

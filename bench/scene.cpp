@@ -22,7 +22,8 @@ std::vector<std::pair<std::string, std::string>> names(const std::vector<std::st
 bool single_frame(const PipelineSpec& p) { return p.protocol == "single_frame"; }
 bool multi_view(const PipelineSpec& p) { return p.protocol == "multi_view"; }
 bool stereo_pair(const PipelineSpec& p) { return p.protocol == "stereo_pair"; }
-bool point_cloud(const PipelineSpec& p) { return !stereo_pair(p); }
+bool classification(const PipelineSpec& p) { return p.protocol == "classification"; }
+bool point_cloud(const PipelineSpec& p) { return multi_view(p) || single_frame(p); }
 
 nlohmann::ordered_json steps_json(const std::vector<FilterSpec>& list) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
@@ -64,6 +65,14 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
                 "a berry counts as visible when this fraction of its projected disc is unoccluded in the left label "
                 "image (seed 001 Table 1: occluded by less than 1/3)")
           .when("protocol: stereo_pair", stereo_pair)
+          .section("reconstruction", &P::reconstruction, mvs_noise_param_table(),
+                   "the pass's views to one coloured cloud: multi-view-stereo noise model and fusion (seed 004's "
+                   "Bundler + PMVS stand-in, sensors/mvs_reconstruction.h)")
+          .when("protocol: classification", classification)
+          .real("split_gap", "m", &P::split_gap, 0, 10,
+                "gap along the row between the training part (x below) and the test part (x above); at least twice "
+                "the largest feature or CRF radius, so no neighbourhood is shared (seed 004 Sect. 4.2)")
+          .when("protocol: classification", classification)
           .validate([](const P& p, const ConfigNode& n) {
             if (single_frame(p) && p.segmentation != P::Segmentation::None) {
               n.fail("segmentation",
@@ -183,6 +192,7 @@ nlohmann::ordered_json scene_json(const Scene& s) {
   if (s.rig) j["rig"] = s.rig->describe();
   j["background"] = background_param_table().to_json(s.background);
   if (s.foliage) j["foliage"] = foliage_param_table().to_json(*s.foliage);
+  if (s.vine_row) j["vine_row"] = vine_row_param_table().to_json(*s.vine_row);
   j["pipeline"] = s.pipeline.describe();
   j["protocol"] = s.protocol;
   if (!s.estimators.empty()) {

@@ -13,7 +13,9 @@
 #include "bench/protocols/registration_methods.h"
 #include "sensors/rig.h"
 #include "sensors/sensor_registry.h"
+#include "sensors/mvs_reconstruction.h"
 #include "synth/foliage.h"
+#include "synth/vine_row.h"
 #include "synth/params.h"
 
 namespace grapebench {
@@ -70,6 +72,10 @@ struct PipelineSpec {
   // berry_visible_fraction of its projected disc is unoccluded there (Table 1: 2/3).
   double cut_tolerance = 2;
   double berry_visible_fraction = 2.0 / 3.0;
+  // classification (seed 004): how the pass becomes one coloured cloud, and the gap
+  // (m) along the row between the training part (x below it) and the test part.
+  MvsNoiseParams reconstruction;
+  double split_gap = 0.3;
   double min_points = 100;  // a case with fewer bunch points fails, [4, 1e9]
   // m, sample step of the rig's visibility hull (sensors/visibility_hull.h), reported
   // as the volume row of the reference `visibility_hull`: the floor of any estimator
@@ -115,6 +121,8 @@ struct Scene {
   BackgroundSpec background;
   // Leaves and canes around each bunch (section `foliage:`, the vine-row scene).
   std::optional<FoliageParams> foliage;
+  // The vine-row section of protocol classification (section `vine_row:`, seed 004).
+  std::optional<VineRowParams> vine_row;
   PipelineSpec pipeline;
   std::vector<EstimatorSpec> estimators;
   std::vector<SweepAxis> sweep;  // as written; each Condition below is one point

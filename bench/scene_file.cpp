@@ -36,12 +36,18 @@ namespace {
 // Each estimator measures what the protocol gives (a cloud or a stereo pair), and the
 // stereo_pair protocol needs a colour stereo sensor.
 void check_protocol_inputs(const ConfigNode& root, const Scene& s) {
-  const std::string wanted = s.protocol == "stereo_pair" ? "stereo_pair" : "cloud";
+  const std::string wanted = s.protocol == "stereo_pair"      ? "stereo_pair"
+                             : s.protocol == "classification" ? "labelled_cloud"
+                                                              : "cloud";
   for (const auto& e : s.estimators) {
     if (e.input != wanted && e.input != "any") {
       root.fail("estimators", "'" + e.name + "' (type " + e.type + ") measures a " + e.input + ", and protocol " +
                                   s.protocol + " gives a " + wanted);
     }
+  }
+  if ((s.protocol == "classification") != s.vine_row.has_value()) {
+    root.fail(s.vine_row ? "vine_row" : "protocol",
+              "protocol classification and a `vine_row:` section go together (seed 004's scene)");
   }
   if (s.protocol == "stereo_pair" && s.sensor && s.sensor->type() != "stereo_rgb") {
     root.fail("protocol", "stereo_pair needs a colour stereo sensor (type stereo_rgb), not " + s.sensor->type());
@@ -71,6 +77,10 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
   if (root.has("rig")) s.rig = make_rig(root.child("rig"));
   if (root.has("background")) s.background = read_background(root.child("background"));
   if (root.has("foliage")) s.foliage = read_foliage(root.child("foliage"));
+  if (root.has("vine_row")) {
+    s.vine_row.emplace();
+    vine_row_param_table().read(root.child("vine_row"), *s.vine_row);
+  }
   if (s.rig && !s.sensor) root.fail("rig", "a rig needs a `sensor:` section");
   s.pipeline = root.has("pipeline") ? read_pipeline(root.child("pipeline"), s.protocol) : pipeline_defaults(s.protocol);
   if (root.has("estimators")) s.estimators = read_estimators(root);

@@ -1,5 +1,6 @@
 #include "bench/protocols/registry.h"
 
+#include "bench/protocols/classification.h"
 #include "bench/protocols/multi_view.h"
 #include "bench/protocols/single_frame.h"
 #include "bench/protocols/stereo_pair.h"
@@ -32,6 +33,10 @@ const Registry<ProtocolRun>& protocol_registry() {
                    "per station: one rectified colour stereo pair; cutting point, berries, bounding volume scored "
                    "against the exact scene (seed 001)",
                    run_stereo_pair),
+          protocol("classification",
+                   "a vine-row section, a camera pass made into one coloured cloud, a training and a separate test "
+                   "part; class scores per test point rated against the exact labels (seed 004)",
+                   run_classification),
       });
   return registry;
 }

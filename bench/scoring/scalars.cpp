@@ -81,17 +81,31 @@ constexpr Unit kUnits[] = {
     {"volume", "cm3", 1e6},        {"envelope_volume", "cm3", 1e6}, {"cut_success", "-", 1},
     {"berries_found", "count", 1}, {"berry_precision", "-", 1},     {"berry_centre_error", "px", 1},
     {"berry_radius_error", "px", 1},
+    // Seed 004's classification rows (fractions).
+    {"accuracy", "-", 1},          {"miou", "-", 1},                {"berry_tpr", "-", 1},
+    {"berry_fpr", "-", 1},
 };
+// Per-class classification rows: auc_berry, iou_leaf, ... (fractions).
+constexpr const char* kFractionPrefixes[] = {"auc_", "iou_", "precision_", "recall_"};
+
+bool is_fraction_row(const std::string& q) {
+  for (const char* p : kFractionPrefixes) {
+    if (q.rfind(p, 0) == 0) return true;
+  }
+  return false;
+}
 
 }  // namespace
 
 const char* display_unit(const std::string& q) {
+  if (is_fraction_row(q)) return "-";
   for (const Unit& u : kUnits) {
     if (q == u.quantity) return u.unit;
   }
   return "mm";
 }
 double display_scale(const std::string& q) {
+  if (is_fraction_row(q)) return 1;
   for (const Unit& u : kUnits) {
     if (q == u.quantity) return u.scale;
   }

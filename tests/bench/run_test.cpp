@@ -640,6 +640,50 @@ estimators:
   EXPECT_EQ(slurp(a / "summary.json"), slurp(b / "summary.json"));
 }
 
+// Seed 004's classification protocol: a small row section, equal files at 1 and 2
+// threads (feature extraction, SVM prediction and the reconstruction run in parallel).
+TEST(Run, ClassificationResultsDoNotDependOnThreads) {
+  const std::string yaml = R"(name: rows_threads
+seed: 9
+protocol: classification
+bunches:
+  - preset: green-table
+    count: 2
+vine_row: {vines: 2, vine_spacing: 0.5, bunches_per_vine: 1}
+foliage: {leaves: 60, row_half_length: 0.5, occlusion: 0}
+sensor: {type: ideal, width: 240, height: 180, hfov_deg: 60}
+rig: {type: robot_pass, frames: 5, spacing: 0.15, distance: 0.8}
+pipeline: {split_gap: 0.2, reconstruction: {fusion_voxel: 0.006}}
+estimators:
+  - {name: svm, type: dey2012_classification, train_per_class: 150, features: {radius: 0.03}, smoothing: {radius: 0.03}}
+  - {name: gmm, type: dey2012_classification, train_per_class: 150, classifier: gmm, crf: false}
+)";
+  const SceneSet set = parse_scene_set(yaml, "rows_threads.yaml");
+  const fs::path a = fresh_dir("rows_threads_1"), b = fresh_dir("rows_threads_2");
+  run_scene_set(set, quiet(a, 1));
+  run_scene_set(set, quiet(b, 2));
+  const std::string results = slurp(a / "results.csv");
+  EXPECT_EQ(results, slurp(b / "results.csv"));
+  EXPECT_EQ(slurp(a / "summary.json"), slurp(b / "summary.json"));
+  EXPECT_NE(results.find("auc_berry"), std::string::npos);
+  const nlohmann::json summary = nlohmann::json::parse(slurp(a / "summary.json"));
+  ASSERT_TRUE(summary.contains("classification"));
+  for (const auto& cell : summary["classification"]) EXPECT_EQ(cell["cases"], 2) << cell.dump();  // every row ok
+}
+
+TEST(Run, ClassificationNeedsItsRowAndLabelledCloudEstimators) {
+  const std::string base = "name: x\nseed: 1\nbunches: [{preset: green-table}]\nsensor: {type: ideal}\n"
+                           "rig: {type: robot_pass}\n";
+  EXPECT_THROW(parse_scene_set(base + "protocol: classification\n", "a.yaml"), InputError);
+  EXPECT_THROW(parse_scene_set(base + "vine_row: {}\n", "b.yaml"), InputError);
+  EXPECT_THROW(parse_scene_set(base + "protocol: classification\nvine_row: {}\nestimators: [{type: convex_hull}]\n",
+                               "c.yaml"),
+               InputError);
+  EXPECT_THROW(parse_scene_set(base + "estimators: [{type: dey2012_classification}]\n", "d.yaml"), InputError);
+  EXPECT_NO_THROW(parse_scene_set(
+      base + "protocol: classification\nvine_row: {}\nestimators: [{type: dey2012_classification}]\n", "e.yaml"));
+}
+
 // Seed 003's single-frame pipeline: rows per frame and ROI kind, the perfect manual
 // ROI exactly on the bunch, Err (Eq. 3) recomputed from the rows, a named sweep axis.
 TEST(Run, SingleFramePipelineGivesTableTwoFromItsRows) {

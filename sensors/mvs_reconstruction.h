@@ -1,0 +1,40 @@
+// The fast path of seed 004's photogrammetry: ray-cast views of a camera pass made
+// into a dense coloured cloud with a multi-view-stereo noise model instead of real
+// matching. Each return moves along its camera ray by a normal error of sd
+// sigma_z = z^2 sigma_d / (f b), the depth error of a point triangulated from two views
+// b apart with a disparity error of sigma_d px (the rectified stereo formula,
+// Z = f b / d), b being the distance to the nearest other view of the pass. The views
+// are then fused on a voxel grid (one point per voxel: centroid, mean colour, majority
+// label), standing in for PMVS's patches (Dey et al. 2012 used Bundler and PMVS).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "sensors/scan.h"
+#include "synth/param_table.h"
+
+namespace grapebench {
+
+struct MvsNoiseParams {
+  double disparity_sd = 0.5;  // px, sigma_d of the matching
+  double fusion_voxel = 0.004;  // m, edge of the fusion grid
+  int min_views = 1;            // a voxel seen by fewer views is dropped (multi-view consistency)
+};
+const ParamTable<MvsNoiseParams>& mvs_noise_param_table();
+
+struct FusedCloud {
+  std::vector<Vec3> points;              // m, world
+  std::vector<std::array<std::uint8_t, 3>> colours;
+  std::vector<Part> labels;              // exact, the majority of the voxel's returns
+  std::vector<double> depth_sd;          // m, mean sigma_z of the voxel's returns
+  std::size_t returns = 0;               // returns before fusion
+};
+
+// The pass's views (at least two, for the baseline) through the noise model and the
+// fusion. Returns labelled Background or None are left out. Deterministic in `seed` at
+// any thread count (each pixel's error is hashed from the seed, view and pixel).
+// Throws InputError for fewer than two views or two views at one place.
+FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, std::uint64_t seed);
+
+}  // namespace grapebench
