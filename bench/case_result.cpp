@@ -185,6 +185,11 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
                     {"notes", r.notes}});
   }
   j["rows"] = rows;
+  if (!c.roc.empty()) {
+    nlohmann::ordered_json roc = nlohmann::ordered_json::array();
+    for (const RocSamples& s : c.roc) roc.push_back({{"estimator", s.estimator}, {"class", s.class_name}, {"tpr", s.tpr}});
+    j["roc"] = roc;
+  }
   return j;
 }
 
@@ -231,6 +236,14 @@ CaseResult case_from_json(const nlohmann::json& j) {
     e.region_precision = r.at("region_precision").get<double>();
     e.notes = r.at("notes").get<std::string>();
     c.rows.push_back(e);
+  }
+  if (j.contains("roc")) {
+    for (const auto& r : j.at("roc")) {
+      RocSamples s{r.at("estimator").get<std::string>(), r.at("class").get<std::string>(),
+                   r.at("tpr").get<std::vector<double>>()};
+      if (s.tpr.size() != static_cast<std::size_t>(kRocGrid)) throw std::runtime_error("roc of the wrong length");
+      c.roc.push_back(std::move(s));
+    }
   }
   return c;
 }

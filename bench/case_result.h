@@ -35,6 +35,15 @@ struct EstimateRow {
   double region_precision = -1;   // fraction of them on the bunch (labels); -1: n/a
 };
 
+// A one-vs-rest ROC curve of a classification estimator on the case's test points,
+// sampled on the fixed false-positive grid 0, 0.01, ..., 1 (kRocGrid points): the best
+// true-positive rate reached at or below each (so curves of cases can be averaged).
+inline constexpr int kRocGrid = 101;
+struct RocSamples {
+  std::string estimator, class_name;
+  std::vector<double> tpr;  // kRocGrid values
+};
+
 struct CaseResult {
   int condition = 0;
   int bunch = 0;
@@ -56,6 +65,7 @@ struct CaseResult {
   // the registered cloud they keep (0 and 0 without cloud filters).
   double peduncle_kept = 0, body_kept = 0;
   std::vector<EstimateRow> rows;
+  std::vector<RocSamples> roc;  // classification: per estimator and class
   // Not deterministic:
   double scan_seconds = 0, segmentation_seconds = 0, registration_seconds = 0, filter_seconds = 0;
 };

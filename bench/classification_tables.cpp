@@ -13,6 +13,30 @@ bool is_classification_row(const std::string& q) {
   return q == "accuracy" || q == "miou" || q == "berry_tpr" || q == "berry_fpr";
 }
 
+std::vector<std::pair<std::string, std::vector<double>>> mean_roc(const std::vector<CaseResult>& cases, int condition,
+                                                                  const std::string& class_name) {
+  std::vector<std::pair<std::string, std::vector<double>>> out;
+  std::vector<int> count;
+  for (const CaseResult& c : cases) {
+    if (c.condition != condition) continue;
+    for (const RocSamples& s : c.roc) {
+      if (s.class_name != class_name) continue;
+      auto it = std::find_if(out.begin(), out.end(), [&](const auto& e) { return e.first == s.estimator; });
+      if (it == out.end()) {
+        out.emplace_back(s.estimator, std::vector<double>(s.tpr.size(), 0.0));
+        count.push_back(0);
+        it = out.end() - 1;
+      }
+      for (std::size_t g = 0; g < s.tpr.size() && g < it->second.size(); ++g) it->second[g] += s.tpr[g];
+      ++count[static_cast<std::size_t>(it - out.begin())];
+    }
+  }
+  for (std::size_t e = 0; e < out.size(); ++e) {
+    for (double& v : out[e].second) v /= count[e];
+  }
+  return out;
+}
+
 std::vector<ClassificationCell> classification_cells(const std::vector<CaseResult>& cases,
                                                      const std::vector<std::string>& labels) {
   std::vector<ClassificationCell> cells;

@@ -21,6 +21,11 @@ struct ClassificationCell {
 std::vector<ClassificationCell> classification_cells(const std::vector<CaseResult>& cases,
                                                      const std::vector<std::string>& labels);
 
+// Per estimator (in first-seen order), the mean over the condition's cases of its ROC
+// curve of `class_name` on the kRocGrid (vertical averaging, Fawcett 2006).
+std::vector<std::pair<std::string, std::vector<double>>> mean_roc(const std::vector<CaseResult>& cases, int condition,
+                                                                  const std::string& class_name);
+
 // True for the rows the classification protocol writes.
 bool is_classification_row(const std::string& quantity);
 

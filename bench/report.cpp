@@ -643,7 +643,25 @@ void classification_section(const ReportContext& ctx, [[maybe_unused]] Report& r
       << esc(c.quantity) << "</td><td>" << c.cases << "</td><td>" << fmt(c.mean, 4) << "</td><td>" << fmt(c.min, 4)
       << "</td><td>" << fmt(c.max, 4) << "</td></tr>\n";
   }
-  h << "</table>\n";
+  h << "</table>\n<p>Figs. 4-7: the berry class's ROC curves, averaged over the cases at each false-positive rate; "
+       "the second plot magnifies false-positive rates up to 0.2.</p>\n<div class=plots>";
+  for (std::size_t k = 0; k < labels.size(); ++k) {
+    std::vector<Series> full, zoom;
+    for (const auto& [estimator, tpr] : mean_roc(ctx.cases, static_cast<int>(k), "berry")) {
+      Series s{estimator, {}, {}, {}, {}, true}, z = s;
+      for (std::size_t g = 0; g < tpr.size(); ++g) {
+        const double fpr = static_cast<double>(g) / (tpr.size() - 1);
+        s.x.push_back(fpr), s.y.push_back(tpr[g]);
+        if (fpr <= 0.2 + 1e-9) z.x.push_back(fpr), z.y.push_back(tpr[g]);
+      }
+      full.push_back(std::move(s)), zoom.push_back(std::move(z));
+    }
+    if (full.empty()) continue;
+    const std::string title = "berry ROC" + (labels.size() > 1 ? " (" + labels[k] + ")" : std::string());
+    h << plot(title, "false-positive rate", "true-positive rate", full, false)
+      << plot(title + ", FPR <= 0.2", "false-positive rate", "true-positive rate", zoom, false);
+  }
+  h << "</div>\n";
 }
 
 Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores,

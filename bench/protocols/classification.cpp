@@ -64,8 +64,21 @@ EstimateRow rate(const EstimateRow& base, const std::string& quantity, double va
 
 }  // namespace
 
+std::vector<double> sample_roc(const RocCurve& curve) {
+  std::vector<double> out(kRocGrid, 0.0);
+  std::size_t i = 0;
+  double best = 0;
+  for (int g = 0; g < kRocGrid; ++g) {  // the curve's fpr never decreases
+    const double fpr = static_cast<double>(g) / (kRocGrid - 1);
+    for (; i < curve.fpr.size() && curve.fpr[i] <= fpr + 1e-12; ++i) best = std::max(best, curve.tpr[i]);
+    out[static_cast<std::size_t>(g)] = best;
+  }
+  return out;
+}
+
 std::vector<EstimateRow> classification_rows(const EstimateRow& base, const Estimate& e,
-                                             const std::vector<int>& train_labels, const std::vector<int>& truth) {
+                                             const std::vector<int>& train_labels, const std::vector<int>& truth,
+                                             std::vector<RocSamples>* roc) {
   const std::vector<std::string>& classes = plant_classes();
   const char* kinds[] = {"auc_", "iou_", "precision_", "recall_"};
   std::vector<EstimateRow> rows;
@@ -107,6 +120,9 @@ std::vector<EstimateRow> classification_rows(const EstimateRow& base, const Esti
   for (std::size_t c = 0; c < classes.size(); ++c) rows.push_back(rate(b, "iou_" + classes[c], s.iou[c]));
   for (std::size_t c = 0; c < classes.size(); ++c) rows.push_back(rate(b, "precision_" + classes[c], s.precision[c]));
   for (std::size_t c = 0; c < classes.size(); ++c) rows.push_back(rate(b, "recall_" + classes[c], s.recall[c]));
+  if (roc) {
+    for (std::size_t c = 0; c < classes.size(); ++c) roc->push_back({base.estimator, classes[c], sample_roc(s.roc[c])});
+  }
   return rows;
 }
 
@@ -146,7 +162,7 @@ CaseResult run_classification(const Condition& condition, int condition_index, c
     in.classes = plant_classes();
     for (const EstimatorSpec& spec : scene.estimators) {
       const TimedEstimate t = run_estimator(spec, in);
-      for (EstimateRow& row : classification_rows(estimate_row(spec, t), t.estimate, in.train_labels, truth))
+      for (EstimateRow& row : classification_rows(estimate_row(spec, t), t.estimate, in.train_labels, truth, &r.roc))
         r.rows.push_back(std::move(row));
     }
     r.ok = true;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bench/case_result.h"
+#include "bench/scoring/classes.h"
 #include "sensors/mvs_reconstruction.h"
 
 namespace grapebench {
@@ -28,8 +29,13 @@ std::vector<int> split_row(FusedCloud& cloud, double gap, std::vector<int>& trut
 // Stage "score": an estimator's rows from its class scores on the test points:
 // accuracy, miou, berry_tpr and berry_fpr (the operating point of the argmax labels),
 // and per class auc_, iou_, precision_, recall_ (estimate beside a truth of 1).
+// `roc` (when given) receives the per-class curves sampled on the kRocGrid.
 std::vector<EstimateRow> classification_rows(const EstimateRow& base, const Estimate& e,
-                                             const std::vector<int>& train_labels, const std::vector<int>& truth);
+                                             const std::vector<int>& train_labels, const std::vector<int>& truth,
+                                             std::vector<RocSamples>* roc = nullptr);
+
+// The curve's best true-positive rate at or below each false-positive rate of the grid.
+std::vector<double> sample_roc(const RocCurve& curve);
 
 CaseResult run_classification(const Condition& condition, int condition_index, const BunchJob& job);
 
