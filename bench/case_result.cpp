@@ -185,6 +185,8 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
                     {"notes", r.notes}});
   }
   j["rows"] = rows;
+  if (c.disparity_error_px >= 0) j["disparity_error_px"] = c.disparity_error_px;
+  if (c.disparity_outliers >= 0) j["disparity_outliers"] = c.disparity_outliers;
   if (!c.roc.empty()) {
     nlohmann::ordered_json roc = nlohmann::ordered_json::array();
     for (const RocSamples& s : c.roc) roc.push_back({{"estimator", s.estimator}, {"class", s.class_name}, {"tpr", s.tpr}});
@@ -237,6 +239,8 @@ CaseResult case_from_json(const nlohmann::json& j) {
     e.notes = r.at("notes").get<std::string>();
     c.rows.push_back(e);
   }
+  if (j.contains("disparity_error_px")) c.disparity_error_px = j.at("disparity_error_px").get<double>();
+  if (j.contains("disparity_outliers")) c.disparity_outliers = j.at("disparity_outliers").get<double>();
   if (j.contains("roc")) {
     for (const auto& r : j.at("roc")) {
       RocSamples s{r.at("estimator").get<std::string>(), r.at("class").get<std::string>(),

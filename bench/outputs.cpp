@@ -110,7 +110,17 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
     classes.push_back({{"condition", c.condition}, {"estimator", c.estimator}, {"quantity", c.quantity},
                        {"cases", c.cases}, {"mean", jnum(c.mean)}, {"min", jnum(c.min)}, {"max", jnum(c.max)}});
   }
-  if (!classes.empty()) j["classification"] = classes;
+  if (!classes.empty()) {
+    j["classification"] = classes;
+    nlohmann::ordered_json rec = nlohmann::ordered_json::array();
+    for (const auto& c : cases) {
+      if (c.disparity_error_px >= 0)
+        rec.push_back({{"condition", condition_labels(set)[static_cast<std::size_t>(c.condition)]}, {"bunch", c.bunch},
+                       {"points", c.points}, {"disparity_error_px", jnum(c.disparity_error_px)},
+                       {"disparity_outliers", jnum(c.disparity_outliers)}});
+    }
+    j["reconstruction"] = rec;
+  }
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const auto& r : scores) {
     const Score& s = r.score;

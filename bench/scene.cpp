@@ -65,9 +65,19 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
                 "a berry counts as visible when this fraction of its projected disc is unoccluded in the left label "
                 "image (seed 001 Table 1: occluded by less than 1/3)")
           .when("protocol: stereo_pair", stereo_pair)
-          .section("reconstruction", &P::reconstruction, mvs_noise_param_table(),
-                   "the pass's views to one coloured cloud: multi-view-stereo noise model and fusion (seed 004's "
-                   "Bundler + PMVS stand-in, sensors/mvs_reconstruction.h)")
+          .choice("reconstruction", &P::reconstruction,
+                  {{"noise_model", P::Reconstruction::NoiseModel}, {"sgbm", P::Reconstruction::Sgbm}},
+                  "the pass's views to points (seed 004's Bundler + PMVS stand-ins): the ray-cast returns with the "
+                  "stereo depth error, or OpenCV's StereoSGBM on each view's rendered colour pair (sensor stereo_rgb)")
+          .when("protocol: classification", classification)
+          .section("noise_model", &P::noise_model, mvs_noise_param_table(), "the depth error of the fast path")
+          .when("reconstruction: noise_model",
+                [](const P& p) { return classification(p) && p.reconstruction == P::Reconstruction::NoiseModel; })
+          .section("sgbm", &P::sgbm, sgbm_param_table(), "semi-global matching and its left-right check")
+          .when("reconstruction: sgbm",
+                [](const P& p) { return classification(p) && p.reconstruction == P::Reconstruction::Sgbm; })
+          .section("fusion", &P::fusion, fusion_param_table(),
+                   "the views' points to one cloud on a voxel grid, with multi-view consistency")
           .when("protocol: classification", classification)
           .real("split_gap", "m", &P::split_gap, 0, 10,
                 "gap along the row between the training part (x below) and the test part (x above); at least twice "

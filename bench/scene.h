@@ -13,6 +13,7 @@
 #include "bench/protocols/registration_methods.h"
 #include "sensors/rig.h"
 #include "sensors/sensor_registry.h"
+#include "algorithms/sgbm_reconstruction.h"
 #include "sensors/mvs_reconstruction.h"
 #include "synth/foliage.h"
 #include "synth/vine_row.h"
@@ -72,9 +73,15 @@ struct PipelineSpec {
   // berry_visible_fraction of its projected disc is unoccluded there (Table 1: 2/3).
   double cut_tolerance = 2;
   double berry_visible_fraction = 2.0 / 3.0;
-  // classification (seed 004): how the pass becomes one coloured cloud, and the gap
-  // (m) along the row between the training part (x below it) and the test part.
-  MvsNoiseParams reconstruction;
+  // classification (seed 004): how the pass becomes one coloured cloud (noise_model: the
+  // ray-cast returns with the stereo depth error; sgbm: semi-global matching of each
+  // view's rendered colour pair), the fusion of the views, and the gap (m) along the
+  // row between the training part (x below it) and the test part.
+  enum class Reconstruction { NoiseModel, Sgbm };
+  Reconstruction reconstruction = Reconstruction::NoiseModel;
+  MvsNoiseParams noise_model;
+  SgbmParams sgbm;
+  FusionParams fusion;
   double split_gap = 0.3;
   double min_points = 100;  // a case with fewer bunch points fails, [4, 1e9]
   // m, sample step of the rig's visibility hull (sensors/visibility_hull.h), reported

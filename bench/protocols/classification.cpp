@@ -1,8 +1,10 @@
 #include "bench/protocols/classification.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
+#include "bench/protocols/stereo_pair.h"
 #include "bench/scoring/classes.h"
 #include "synth/generate.h"
 #include "synth/rng.h"
@@ -138,6 +140,39 @@ RayScene build_row(const Scene& scene, const BunchJob& job) {
   return scene_rays(scene, vine_row(bunches, row, derive_seed(job.seed, 0x4a1e)), job.seed);
 }
 
+// Stage "reconstruct": the pass's views to one coloured cloud with exact labels.
+FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed, CaseResult& r) {
+  if (pl.reconstruction == PipelineSpec::Reconstruction::NoiseModel) {
+    r.disparity_error_px = pl.noise_model.disparity_sd;
+    r.disparity_outliers = 0;
+    return mvs_reconstruction(scan, pl.noise_model, pl.fusion, seed);
+  }
+  std::vector<LabelledReturn> returns;
+  std::vector<double> disparity_error;  // px, per matched pixel with a true depth
+  for (std::size_t k = 0; k < scan.views.size(); ++k) {
+    const ScanView& view = scan.views[k];
+    const EstimatorInput in = stereo_input(view);  // throws unless the sensor renders a colour pair
+    const SgbmCloud c = sgbm_reconstruction(*in.stereo, pl.sgbm);
+    for (Eigen::Index i = 0; i < c.points.rows(); ++i) {
+      const std::uint32_t pixel = c.pixel[static_cast<std::size_t>(i)];
+      // The exact label of the left pixel the point came from (its depth may be wrong).
+      const auto part = static_cast<Part>(view.cloud.label[pixel]);
+      const double z = c.points(i, 2), truth = view.cloud.truth(pixel);
+      if (truth > 0) disparity_error.push_back(std::abs(z - truth) * in.stereo->fx * in.stereo->baseline / (z * z));
+      returns.push_back({view.camera.pose * Vec3(c.points.row(i).transpose()), c.colours[static_cast<std::size_t>(i)],
+                         part, static_cast<int>(k), 0.0});
+    }
+  }
+  if (!disparity_error.empty()) {
+    const auto off = std::count_if(disparity_error.begin(), disparity_error.end(), [](double e) { return e > 3; });
+    r.disparity_outliers = static_cast<double>(off) / static_cast<double>(disparity_error.size());
+    auto mid = disparity_error.begin() + static_cast<std::ptrdiff_t>(disparity_error.size() / 2);
+    std::nth_element(disparity_error.begin(), mid, disparity_error.end());
+    r.disparity_error_px = 1.4826 * *mid;
+  }
+  return fuse_returns(returns, pl.fusion);
+}
+
 }  // namespace
 
 CaseResult run_classification(const Condition& condition, int condition_index, const BunchJob& job) {
@@ -151,7 +186,7 @@ CaseResult run_classification(const Condition& condition, int condition_index, c
     r.scan_seconds = seconds_since(t0);
     r.views = static_cast<int>(scan.views.size());
     t0 = std::chrono::steady_clock::now();
-    FusedCloud cloud = mvs_reconstruction(scan, scene.pipeline.reconstruction, derive_seed(job.seed, 0x3d5));
+    FusedCloud cloud = reconstruct(scene.pipeline, scan, derive_seed(job.seed, 0x3d5), r);
     std::vector<int> truth;
     EstimatorInput in;
     in.train_labels = split_row(cloud, scene.pipeline.split_gap, truth);

@@ -653,7 +653,7 @@ vine_row: {vines: 2, vine_spacing: 0.5, bunches_per_vine: 1}
 foliage: {leaves: 60, row_half_length: 0.5, occlusion: 0}
 sensor: {type: ideal, width: 240, height: 180, hfov_deg: 60}
 rig: {type: robot_pass, frames: 5, spacing: 0.15, distance: 0.8}
-pipeline: {split_gap: 0.2, reconstruction: {fusion_voxel: 0.006}}
+pipeline: {split_gap: 0.2, fusion: {voxel: 0.006}}
 estimators:
   - {name: svm, type: dey2012_classification, train_per_class: 150, features: {radius: 0.03}, smoothing: {radius: 0.03}}
   - {name: gmm, type: dey2012_classification, train_per_class: 150, classifier: gmm, crf: false}
@@ -669,6 +669,33 @@ estimators:
   const nlohmann::json summary = nlohmann::json::parse(slurp(a / "summary.json"));
   ASSERT_TRUE(summary.contains("classification"));
   for (const auto& cell : summary["classification"]) EXPECT_EQ(cell["cases"], 2) << cell.dump();  // every row ok
+}
+
+// The real photogrammetry path: rendered colour pairs, SGBM, fusion; its disparity
+// error is measured against the exact depths of the pixels it matched.
+TEST(Run, ClassificationFromRenderedPairsMeasuresItsDisparityError) {
+  const std::string yaml = R"(name: rows_sgbm
+seed: 10
+protocol: classification
+bunches:
+  - preset: green-table
+vine_row: {vines: 1, bunches_per_vine: 2}
+foliage: {leaves: 40, row_half_length: 0.35, occlusion: 0}
+sensor: {type: stereo_rgb, width: 320, height: 240, focal_length_mm: 3, background: plain, light: overcast}
+rig: {type: robot_pass, frames: 4, spacing: 0.12, distance: 0.8}
+pipeline: {reconstruction: sgbm, sgbm: {min_depth: 0.5, max_depth: 1.6}, split_gap: 0.1}
+estimators:
+  - {name: rgb, type: dey2012_classification, train_per_class: 100, features: {scales: 0}, crf: false}
+)";
+  const fs::path a = fresh_dir("rows_sgbm");
+  run_scene_set(parse_scene_set(yaml, "rows_sgbm.yaml"), quiet(a, 2));
+  const nlohmann::json summary = nlohmann::json::parse(slurp(a / "summary.json"));
+  ASSERT_EQ(summary["reconstruction"].size(), 1u) << summary.dump();
+  const double sd = summary["reconstruction"][0]["disparity_error_px"];
+  EXPECT_GT(sd, 0.05);
+  EXPECT_LT(sd, 3.0);
+  EXPECT_GT(summary["reconstruction"][0]["points"].get<int>(), 1000);
+  for (const auto& cell : summary["classification"]) EXPECT_EQ(cell["cases"], 1) << cell.dump();
 }
 
 TEST(Run, ClassificationNeedsItsRowAndLabelledCloudEstimators) {

@@ -45,8 +45,10 @@ TEST(MvsReconstruction, FusedPointsCarryTheirTrueLabels) {
   const Row row = small_row();
   const Scan scan = pass(row.rays, 3, 0.15);
   MvsNoiseParams p;
-  p.disparity_sd = 0, p.fusion_voxel = 0.001;
-  const FusedCloud c = mvs_reconstruction(scan, p, 1);
+  p.disparity_sd = 0;
+  FusionParams fusion;
+  fusion.voxel = 0.001, fusion.min_views = 1;
+  const FusedCloud c = mvs_reconstruction(scan, p, fusion, 1);
   std::size_t berries = 0, on_surface = 0, leaves = 0, canes = 0;
   for (std::size_t i = 0; i < c.points.size(); ++i) {
     leaves += c.labels[i] == Part::Leaf;
@@ -68,8 +70,10 @@ TEST(MvsReconstruction, DepthErrorFollowsTheStereoFormulaAndTheSeed) {
   const Row row = small_row();
   const Scan scan = pass(row.rays, 2, 0.1);
   MvsNoiseParams p;
-  p.disparity_sd = 0.7, p.fusion_voxel = 0.002, p.min_views = 1;
-  const FusedCloud c = mvs_reconstruction(scan, p, 1);
+  p.disparity_sd = 0.7;
+  FusionParams fusion;
+  fusion.voxel = 0.002, fusion.min_views = 1;
+  const FusedCloud c = mvs_reconstruction(scan, p, fusion, 1);
   // Both cameras look along +y from the same plane: z is the distance along y.
   const double f = scan.views[0].camera.K.fx, y0 = scan.views[0].camera.centre().y();
   const double b = (scan.views[1].camera.centre() - scan.views[0].camera.centre()).norm();
@@ -83,7 +87,7 @@ TEST(MvsReconstruction, DepthErrorFollowsTheStereoFormulaAndTheSeed) {
     sum += c.depth_sd[i] / (z * z * 0.7 / (f * b));
   }
   EXPECT_NEAR(sum / n, 1, 0.01);
-  const FusedCloud again = mvs_reconstruction(scan, p, 1), other = mvs_reconstruction(scan, p, 2);
+  const FusedCloud again = mvs_reconstruction(scan, p, fusion, 1), other = mvs_reconstruction(scan, p, fusion, 2);
   ASSERT_EQ(again.points.size(), c.points.size());
   for (std::size_t i = 0; i < c.points.size(); ++i) ASSERT_EQ(again.points[i], c.points[i]);
   std::size_t same = 0;
@@ -91,7 +95,7 @@ TEST(MvsReconstruction, DepthErrorFollowsTheStereoFormulaAndTheSeed) {
   EXPECT_LT(same, c.points.size() / 100);  // another seed, other errors
   Scan one = scan;
   one.views.resize(1);
-  EXPECT_THROW(mvs_reconstruction(one, p, 1), InputError);
+  EXPECT_THROW(mvs_reconstruction(one, p, fusion, 1), InputError);
 }
 
 }  // namespace

@@ -1,0 +1,92 @@
+// Seed 004's dense matching (OpenCV StereoSGBM with a left-right check) on a rendered
+// textured plane: depths within the stereo formula's error, colours from the left
+// image, occluded pixels refused by the left-right check.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/sgbm_reconstruction.h"
+#include "synth/rng.h"
+
+namespace grapebench {
+namespace {
+
+// A fronto-parallel plane at depth z carrying a smooth random texture (sum of sines),
+// rendered exactly (point sampling at pixel centres) into a rectified pair.
+StereoPair plane_pair(double z, double b) {
+  StereoPair p;
+  const int w = 320, h = 240;
+  p.fx = p.fy = 400, p.cx = 159.5, p.cy = 119.5, p.baseline = b;
+  Rng rng(5);
+  struct Wave {
+    double kx, ky, phase, amp;
+  };
+  std::vector<Wave> waves;
+  for (int k = 0; k < 40; ++k)
+    waves.push_back({rng.uniform(-300, 300), rng.uniform(-300, 300), rng.uniform(0, 2 * M_PI), rng.uniform(10, 25)});
+  auto texture = [&](double x, double y) {  // plane coordinates, m
+    double v = 128;
+    for (const Wave& wv : waves) v += wv.amp * std::sin(wv.kx * x + wv.ky * y + wv.phase);
+    return static_cast<std::uint8_t>(std::clamp(v, 0.0, 255.0));
+  };
+  for (RgbImage* im : {&p.left, &p.right}) {
+    const double shift = im == &p.right ? b : 0.0;  // the right camera stands b to the right
+    im->width = w, im->height = h;
+    im->data.resize(static_cast<std::size_t>(w) * h * 3);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const double px = (x - p.cx) * z / p.fx + shift, py = (y - p.cy) * z / p.fy;
+        const std::uint8_t t = texture(px, py);
+        std::uint8_t* q = im->data.data() + (static_cast<std::size_t>(y) * w + x) * 3;
+        q[0] = t, q[1] = static_cast<std::uint8_t>(255 - t), q[2] = static_cast<std::uint8_t>(t / 2);
+      }
+    }
+  }
+  return p;
+}
+
+TEST(SgbmReconstruction, TexturedPlaneDepthsWithinTheStereoFormulasError) {
+  const double z = 0.8, b = 0.05;
+  const StereoPair pair = plane_pair(z, b);  // disparity f b / z = 25 px
+  SgbmParams p;
+  p.min_depth = 0.4, p.max_depth = 2.0;
+  const SgbmCloud c = sgbm_reconstruction(pair, p);
+  // Most pixels match. OpenCV leaves the left strip of min + number of disparities
+  // unmatched: 10 + 48 px here (20-50 px searched, rounded up to a multiple of 16).
+  EXPECT_GT(c.consistent, 0.8 * (320 - 58) * 240);
+  std::vector<double> err;
+  for (Eigen::Index i = 0; i < c.points.rows(); ++i) {
+    err.push_back(c.points(i, 2) - z);
+    ASSERT_GE(c.pixel[static_cast<std::size_t>(i)] % 320, 25u);  // never in the unmatched strip
+  }
+  std::sort(err.begin(), err.end());
+  const double unit = z * z / (pair.fx * b);  // depth error of 1 px of disparity: 32 mm
+  EXPECT_LT(std::abs(err[err.size() / 2]), 0.1 * unit);  // median within 0.1 px
+  const double spread = 0.5 * (err[err.size() * 84 / 100] - err[err.size() * 16 / 100]);
+  EXPECT_LT(spread, 0.3 * unit);  // about one sigma within 0.3 px
+  // Colours are the left image's.
+  const std::uint32_t px = c.pixel[0];
+  EXPECT_EQ(c.colours[0][0], pair.left.data[3 * px]);
+  // Lateral position from the principal point and the depth.
+  const std::size_t mid = c.points.rows() / 2;
+  const double u = c.pixel[mid] % 320;
+  EXPECT_NEAR(c.points(static_cast<Eigen::Index>(mid), 0), (u - pair.cx) * c.points(static_cast<Eigen::Index>(mid), 2) / pair.fx,
+              1e-9);
+}
+
+TEST(SgbmReconstruction, RefusesBadPairs) {
+  StereoPair pair = plane_pair(0.8, 0.05);
+  pair.right.width = 100;
+  EXPECT_THROW(sgbm_reconstruction(pair, SgbmParams{}), InputError);
+  pair = plane_pair(0.8, 0.05);
+  pair.baseline = 0;
+  EXPECT_THROW(sgbm_reconstruction(pair, SgbmParams{}), InputError);
+  pair = plane_pair(0.8, 0.05);
+  SgbmParams p;
+  p.min_depth = 0.01;  // disparities up to 2000 px: more than the image
+  EXPECT_THROW(sgbm_reconstruction(pair, p), InputError);
+}
+
+}  // namespace
+}  // namespace grapebench
