@@ -108,7 +108,11 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
   nlohmann::ordered_json req;
   req["protocol"] = v2 ? "grapebench-estimator-2" : "grapebench-estimator-1";
   if (v2)
-    req["kind"] = in.stereo ? "stereo_pair" : in.frame ? "single_frame" : !in.views.empty() ? "multi_view" : "cloud";
+    req["kind"] = in.stereo                   ? "stereo_pair"
+                  : !in.train_labels.empty() ? "classification"
+                  : in.frame                 ? "single_frame"
+                  : !in.views.empty()        ? "multi_view"
+                                             : "cloud";
   req["cloud"] = (dir / "cloud.ply").string();
   req["points"] = n;
   req["units"] = "m";
@@ -133,6 +137,10 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
                      {"points", in.views[k].points.rows()}});
   }
   req["views"] = views;
+  if (!in.train_labels.empty()) {
+    req["classes"] = in.classes;
+    req["train_labels"] = in.train_labels;  // per point: class index, or -1 where to score
+  }
   if (in.stereo) {
     const StereoPair& s = *in.stereo;
     std::ofstream(dir / "left.png", std::ios::binary) << rgb_image_png(s.left.width, s.left.height, s.left.data);
@@ -426,14 +434,24 @@ Estimate external_estimate(const EstimatorInput& input, const ExternalParams& p)
   } else {
     require_points(input.points, 1, "external estimator");
   }
+  const bool classify = p.input == ExternalParams::Input::LabelledCloud;
+  if (classify && input.train_labels.empty())
+    throw InputError("external estimator: input: labelled_cloud, and the protocol gives no training labels");
+  const auto check = [&](Estimate e) {
+    if (classify && (e.class_scores.rows() != input.points.rows() ||
+                     e.class_scores.cols() != static_cast<Eigen::Index>(input.classes.size())))
+      fail(p, "the answer needs 'class_scores': one list of " + std::to_string(input.classes.size()) +
+                  " scores per input point");
+    return e;
+  };
   const TempDir dir;
   const nlohmann::ordered_json req = write_request(dir.path, input, p);
   if (p.persistent) {
     if (!p.programs) throw std::logic_error("external estimator: persistent mode without its programs");
-    return parse_external_answer(p.programs->ask(req), p, input.points.rows());
+    return check(parse_external_answer(p.programs->ask(req), p, input.points.rows()));
   }
   std::ofstream(dir.path / "request.json", std::ios::binary) << req.dump(1) << "\n";
-  return parse_external_answer(run_once(dir.path, p), p, input.points.rows());
+  return check(parse_external_answer(run_once(dir.path, p), p, input.points.rows()));
 }
 
 const ParamTable<ExternalParams>& external_param_table() {
@@ -442,15 +460,20 @@ const ParamTable<ExternalParams>& external_param_table() {
       ParamTable<P>()
           .strings("command", &P::command, 1, "the program and its arguments, e.g. [python3, \"{scene_dir}/my.py\"]")
           .required()
-          .choice_list("quantities", &P::quantities, quantity_choices(), 1, "what the program's answer holds")
           .real("timeout", "s", &P::timeout, 0.1, 86400, "the whole exchange of one request; then the group is killed")
           .integer("version", "-", &P::version, 1, 2,
                    "protocol version: 1 (x y z, scalars) or 2 (every attribute and output kind)")
           .boolean("persistent", &P::persistent, "one process answers many requests as JSON lines on stdin/stdout")
           .when("version: 2", [](const P& p) { return p.version == 2; })
-          .choice("input", &P::input, {{"cloud", P::Input::Cloud}, {"stereo_pair", P::Input::StereoPair}},
-                  "what the program measures: the protocol's cloud, or a colour stereo pair (protocol stereo_pair)")
-          .when("version: 2", [](const P& p) { return p.version == 2; });
+          .choice("input", &P::input,
+                  {{"cloud", P::Input::Cloud},
+                   {"stereo_pair", P::Input::StereoPair},
+                   {"labelled_cloud", P::Input::LabelledCloud}},
+                  "what the program measures: the protocol's cloud, a colour stereo pair (protocol stereo_pair) or "
+                  "a coloured cloud with training labels (protocol classification: class_scores answer)")
+          .when("version: 2", [](const P& p) { return p.version == 2; })
+          .choice_list("quantities", &P::quantities, quantity_choices(), 1, "what the program's answer holds")
+          .when("input: cloud or stereo_pair", [](const P& p) { return p.input != P::Input::LabelledCloud; });
   return table;
 }
 

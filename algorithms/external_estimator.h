@@ -31,9 +31,11 @@ struct ExternalParams {
   // requests, a JSON line each on stdin, an answer line each on stdout (Python's
   // start-up and imports paid once per run and thread, not per case).
   bool persistent = false;
-  // Version 2 only. What the program measures: the protocol's cloud, or a rectified
-  // colour stereo pair (protocol stereo_pair: left.png, right.png and the camera).
-  enum class Input { Cloud, StereoPair };
+  // Version 2 only. What the program measures: the protocol's cloud, a rectified
+  // colour stereo pair (protocol stereo_pair: left.png, right.png and the camera), or a
+  // coloured cloud with training labels to score per point (protocol classification:
+  // `classes`, `train_labels`; the answer is `class_scores`, no scalar).
+  enum class Input { Cloud, StereoPair, LabelledCloud };
   Input input = Input::Cloud;
   nlohmann::ordered_json params = nlohmann::ordered_json::object();  // passed through to the program
   // The running programs of persistent mode (set when the estimator is created).

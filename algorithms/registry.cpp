@@ -82,9 +82,13 @@ RegistryEntry<EstimatorBinding> external() {
       "external", "an external program through the JSON protocol (algorithms/README.md); set `quantities`",
       external_param_table(), ExternalParams{}, [](ExternalParams x, const ConfigNode& n) {
         substitute_scene_dir(x.command, std::filesystem::path(n.file()).parent_path().string());
+        if (x.input == ExternalParams::Input::LabelledCloud) x.quantities.clear();  // class scores only
         if (x.persistent) x.programs = start_persistent_programs(x);
+        const char* input = x.input == ExternalParams::Input::StereoPair      ? "stereo_pair"
+                            : x.input == ExternalParams::Input::LabelledCloud ? "labelled_cloud"
+                                                                              : "cloud";
         return EstimatorBinding{x.quantities, [x](const EstimatorInput& in) { return external_estimate(in, x); },
-                                x.input == ExternalParams::Input::StereoPair ? "stereo_pair" : "cloud"};
+                                input};
       });
 }
 

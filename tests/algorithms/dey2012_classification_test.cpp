@@ -76,16 +76,20 @@ double test_accuracy(const Case& c, const Eigen::MatrixXd& scores) {
   return static_cast<double>(right) / n;
 }
 
-class Dey2012Shapes : public ::testing::TestWithParam<std::string> {};
+struct Variant {
+  const char* name;
+  const char* yaml;
+};
+class Dey2012Shapes : public ::testing::TestWithParam<Variant> {};
 
 TEST_P(Dey2012Shapes, ClassifiesBallsRodsAndDiscsByShape) {
   const Case c = analytic_case();
   nlohmann::ordered_json params;
-  const EstimatorBinding e = estimator_registry().create(ConfigNode::load_string(GetParam(), "t.yaml"), params);
+  const EstimatorBinding e = estimator_registry().create(ConfigNode::load_string(GetParam().yaml, "t.yaml"), params);
   EXPECT_EQ(e.input, "labelled_cloud");
   const Estimate est = e.run(c.input);
   ASSERT_EQ(est.class_scores.rows(), c.input.points.rows());
-  EXPECT_GT(test_accuracy(c, est.class_scores), 0.97) << GetParam();
+  EXPECT_GT(test_accuracy(c, est.class_scores), 0.97) << GetParam().yaml;
   // Training rows carry their one-hot label.
   EXPECT_EQ(est.class_scores(0, c.truth[0]), 1.0);
 }
@@ -93,10 +97,12 @@ TEST_P(Dey2012Shapes, ClassifiesBallsRodsAndDiscsByShape) {
 INSTANTIATE_TEST_SUITE_P(
     Variants, Dey2012Shapes,
     ::testing::Values(
-        "type: dey2012_classification\nfeatures: {radius: 0.02, scales: 1, colour: false}\ncrf: false",
-        "type: dey2012_classification\nfeatures: {radius: 0.02, scales: 2, colour: true}\nsmoothing: {radius: 0.01}",
-        "type: dey2012_classification\nfeatures: {radius: 0.02, scales: 2, colour: false}\nclassifier: gmm\ncrf: "
-        "false"));
+        Variant{"svm_one_scale", "type: dey2012_classification\nfeatures: {radius: 0.02, scales: 1, colour: false}\ncrf: false"},
+        Variant{"svm_two_scales_rgb_crf",
+                "type: dey2012_classification\nfeatures: {radius: 0.02, scales: 2, colour: true}\nsmoothing: {radius: 0.01}"},
+        Variant{"gmm_two_scales", "type: dey2012_classification\nfeatures: {radius: 0.02, scales: 2, colour: false}\n"
+                                  "classifier: gmm\ncrf: false"}),
+    [](const ::testing::TestParamInfo<Variant>& i) { return std::string(i.param.name); });
 
 TEST(Dey2012Classification, RefusesInputWithoutTrainingLabels) {
   Case c = analytic_case();

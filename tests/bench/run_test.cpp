@@ -698,6 +698,52 @@ estimators:
   for (const auto& cell : summary["classification"]) EXPECT_EQ(cell["cases"], 1) << cell.dump();
 }
 
+// Seed 004 through the external protocol: a classification request (coloured PLY,
+// classes, training labels) checked against the schema, and per-point score answers
+// from the Python example, per case and persistent alike.
+TEST(External, ClassificationRequestAndScoreAnswer) {
+  const std::string source = GRAPEBENCH_SOURCE_DIR;
+  std::string yaml = R"(name: rows_external
+seed: 9
+protocol: classification
+bunches:
+  - preset: green-table
+vine_row: {vines: 2, vine_spacing: 0.5, bunches_per_vine: 1}
+foliage: {leaves: 60, row_half_length: 0.5, occlusion: 0}
+sensor: {type: ideal, width: 240, height: 180, hfov_deg: 60}
+rig: {type: robot_pass, frames: 5, spacing: 0.15, distance: 0.8}
+pipeline: {split_gap: 0.2, fusion: {voxel: 0.006}}
+estimators:
+)";
+  yaml += "  - {name: schema, type: external, version: 2, input: labelled_cloud, command: [/usr/bin/python3, " + source +
+          "/tests/bench/data/schema_check.py, " + source + "/docs/external-protocol.schema.json]}\n";
+  for (const char* mode : {"per_case", "persistent"}) {
+    yaml += std::string("  - {name: colour_") + mode + ", type: external, version: 2, input: labelled_cloud" +
+            (std::string(mode) == "persistent" ? ", persistent: true" : "") + ", command: [/usr/bin/python3, " + source +
+            "/scripts/external/colour_classifier.py" + (std::string(mode) == "persistent" ? ", --persistent" : "") +
+            "]}\n";
+  }
+  const fs::path out = fresh_dir("external_classification");
+  run_scene_set(parse_scene_set(yaml, "rows_external.yaml"), quiet(out, 2));
+  const std::string csv = slurp(out / "results.csv");
+  const EstimatorRows schema = rows_of(csv, "schema");
+  ASSERT_FALSE(schema.notes.empty()) << csv;
+  for (const auto& n : schema.notes) EXPECT_NE(n.find("schema ok: grapebench-estimator-2 classification"), std::string::npos) << n;
+  // Equal scores: every AUC is one half.
+  for (const auto& [key, v] : schema.estimate) {
+    if (key.ends_with("/auc_berry")) EXPECT_DOUBLE_EQ(v, 0.5) << key;
+  }
+  const EstimatorRows per_case = rows_of(csv, "colour_per_case"), persistent = rows_of(csv, "colour_persistent");
+  expect_same_rows(per_case, persistent, 0, "persistent vs per case");
+  int aucs = 0;
+  for (const auto& [key, v] : per_case.estimate) {
+    if (!key.ends_with("/auc_berry")) continue;
+    ++aucs;
+    EXPECT_GT(v, 0.7) << key;  // colour separates the classes well in this row
+  }
+  EXPECT_EQ(aucs, 1);
+}
+
 TEST(Run, ClassificationNeedsItsRowAndLabelledCloudEstimators) {
   const std::string base = "name: x\nseed: 1\nbunches: [{preset: green-table}]\nsensor: {type: ideal}\n"
                            "rig: {type: robot_pass}\n";

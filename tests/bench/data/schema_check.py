@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Test program for the external protocol: validates each request grapebench sends
 against docs/external-protocol.schema.json (python3-jsonschema), checks that the
-files it names hold what it says, and answers 1 mm / 1 mm3 per quantity (its answer
-validated too). Usage: schema_check.py SCHEMA [--persistent | REQUEST]."""
+files it names hold what it says, and answers 1 mm / 1 mm3 per quantity, or equal class scores for a
+classification request (its answer validated too). Usage: schema_check.py SCHEMA [--persistent | REQUEST]."""
 import json
 import sys
 
@@ -24,6 +24,11 @@ def check(schema, req):
                 if f.read(8) != b"\x89PNG\r\n\x1a\n":
                     raise ValueError("%s: not a PNG file" % req["stereo"][side])
     answer = {q: 1e-9 if q == "volume" else 1e-3 for q in req["quantities"]}
+    if req.get("kind") == "classification":
+        if len(req["train_labels"]) != req["points"] or "red" not in head:
+            raise ValueError("classification: train_labels or the cloud's colours are missing")
+        k = len(req["classes"])
+        answer["class_scores"] = [[1.0 / k] * k] * req["points"]
     answer["notes"] = "schema ok: %s %s" % (req["protocol"], req.get("kind", ""))
     jsonschema.validate(answer, {"$ref": "#/$defs/answer", "$defs": schema["$defs"]})
     return answer
