@@ -1,6 +1,10 @@
 #include "algorithms/crf_smoothing.h"
 
 // Boost's max-flow trips GCC's -Wmaybe-uninitialized once inlined here (not our code).
+// CGAL's default implementation (Boost adjacency list) took 2.3 s on seed 004's test
+// cloud where the compressed-sparse-row one took 33.0 s (grapebench_classification_perf
+// BM_crf); the MaxFlow one (0.8 s) left isolated noise on the grid of
+// tests/algorithms/crf_smoothing_test.cpp that the others remove.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <CGAL/boost/graph/alpha_expansion_graphcut.h>
@@ -81,7 +85,7 @@ CrfResult crf_smoothing(const PointCloud& points, const Eigen::MatrixXd& probabi
   const std::vector<std::size_t> before = labels;
   if (p.weight > 0 && !edges.empty()) {
     const std::vector<double> costs(edges.size(), p.weight);
-    CGAL::alpha_expansion_graphcut(edges, costs, unary, labels, CGAL::Alpha_expansion_boost_compressed_sparse_row_tag());
+    CGAL::alpha_expansion_graphcut(edges, costs, unary, labels);
   }
   r.energy_after = potts_energy(unary, edges, labels, p.weight);
   // The continuous score: each point's label distribution given its neighbours' labels.

@@ -1,7 +1,7 @@
 // Seed 004's spatial smoothing (Dey et al. 2012, Sect. 3.3): a CRF over the points with
 // unaries from the classifier's probabilities and a Potts penalty between neighbours
 // within a support radius, minimised by alpha expansion (Boykov et al. 2001; CGAL's
-// alpha_expansion_graphcut in place of Delong's gco, which Debian does not package).
+// alpha_expansion_graphcut, in place of Delong's gco, which Debian does not package).
 #pragma once
 
 #include <Eigen/Core>

@@ -128,10 +128,6 @@ std::vector<EstimateRow> classification_rows(const EstimateRow& base, const Esti
   return rows;
 }
 
-namespace {
-
-// Stage "row": the case's bunches (one per place on the row, each from its own seed)
-// hung on one cordon, with the scene's foliage over the whole section.
 RayScene build_row(const Scene& scene, const BunchJob& job) {
   const VineRowParams& row = *scene.vine_row;
   std::vector<Bunch> bunches;
@@ -140,7 +136,6 @@ RayScene build_row(const Scene& scene, const BunchJob& job) {
   return scene_rays(scene, vine_row(bunches, row, derive_seed(job.seed, 0x4a1e)), job.seed);
 }
 
-// Stage "reconstruct": the pass's views to one coloured cloud with exact labels.
 FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed, CaseResult& r) {
   if (pl.reconstruction == PipelineSpec::Reconstruction::NoiseModel) {
     r.disparity_error_px = pl.noise_model.disparity_sd;
@@ -172,8 +167,6 @@ FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t s
   }
   return fuse_returns(returns, pl.fusion);
 }
-
-}  // namespace
 
 CaseResult run_classification(const Condition& condition, int condition_index, const BunchJob& job) {
   CaseResult r = new_case(condition, condition_index, job);

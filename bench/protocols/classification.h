@@ -20,6 +20,14 @@ const std::vector<std::string>& plant_classes();
 // paper's "branches") 1; leaf 2; -1 for background and no return.
 int plant_class(Part part);
 
+// Stage "row": the case's bunches (one per place on the row, each from its own seed)
+// hung on one cordon, with the scene's foliage over the whole section.
+RayScene build_row(const Scene& scene, const BunchJob& job);
+
+// Stage "reconstruct": the pass's views to one coloured cloud with exact labels (the
+// scene's reconstruction); the disparity error goes into `r`.
+FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed, CaseResult& r);
+
 // Stage "split": per point of the fused cloud, its class where it lies in the training
 // part (x < -gap / 2), -1 in the test part (x > gap / 2); points in the gap are
 // dropped from `cloud` (so no neighbourhood joins the two parts). Returns the labels of
