@@ -640,22 +640,23 @@ estimators:
   EXPECT_EQ(slurp(a / "summary.json"), slurp(b / "summary.json"));
 }
 
-// Seed 004's classification protocol: a small row section, equal files at 1 and 2
-// threads (feature extraction, SVM prediction and the reconstruction run in parallel).
-TEST(Run, ClassificationResultsDoNotDependOnThreads) {
-  const std::string yaml = R"(name: rows_threads
-seed: 9
-protocol: classification
-bunches:
-  - preset: green-table
-    count: 2
+// A small seed 004 row section (2 vines, 1 bunch each), ideal pass; estimators follow.
+std::string small_row_scene(const std::string& name, int count) {
+  return "name: " + name + "\nseed: 9\nprotocol: classification\nbunches:\n  - preset: green-table\n    count: " +
+         std::to_string(count) + R"(
 vine_row: {vines: 2, vine_spacing: 0.5, bunches_per_vine: 1}
 foliage: {leaves: 60, row_half_length: 0.5, occlusion: 0}
 sensor: {type: ideal, width: 240, height: 180, hfov_deg: 60}
 rig: {type: robot_pass, frames: 5, spacing: 0.15, distance: 0.8}
 pipeline: {split_gap: 0.2, fusion: {voxel: 0.006}}
 estimators:
-  - {name: svm, type: dey2012_classification, train_per_class: 150, features: {radius: 0.03}, smoothing: {radius: 0.03}}
+)";
+}
+
+// Seed 004's classification protocol: a small row section, equal files at 1 and 2
+// threads (feature extraction, SVM prediction and the reconstruction run in parallel).
+TEST(Run, ClassificationResultsDoNotDependOnThreads) {
+  const std::string yaml = small_row_scene("rows_threads", 2) + R"(  - {name: svm, type: dey2012_classification, train_per_class: 150, features: {radius: 0.03}, smoothing: {radius: 0.03}}
   - {name: gmm, type: dey2012_classification, train_per_class: 150, classifier: gmm, crf: false}
 )";
   const SceneSet set = parse_scene_set(yaml, "rows_threads.yaml");
@@ -703,18 +704,7 @@ estimators:
 // from the Python example, per case and persistent alike.
 TEST(External, ClassificationRequestAndScoreAnswer) {
   const std::string source = GRAPEBENCH_SOURCE_DIR;
-  std::string yaml = R"(name: rows_external
-seed: 9
-protocol: classification
-bunches:
-  - preset: green-table
-vine_row: {vines: 2, vine_spacing: 0.5, bunches_per_vine: 1}
-foliage: {leaves: 60, row_half_length: 0.5, occlusion: 0}
-sensor: {type: ideal, width: 240, height: 180, hfov_deg: 60}
-rig: {type: robot_pass, frames: 5, spacing: 0.15, distance: 0.8}
-pipeline: {split_gap: 0.2, fusion: {voxel: 0.006}}
-estimators:
-)";
+  std::string yaml = small_row_scene("rows_external", 1);
   yaml += "  - {name: schema, type: external, version: 2, input: labelled_cloud, command: [/usr/bin/python3, " + source +
           "/tests/bench/data/schema_check.py, " + source + "/docs/external-protocol.schema.json]}\n";
   for (const char* mode : {"per_case", "persistent"}) {
