@@ -187,6 +187,12 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   j["rows"] = rows;
   if (c.disparity_error_px >= 0) j["disparity_error_px"] = c.disparity_error_px;
   if (c.disparity_outliers >= 0) j["disparity_outliers"] = c.disparity_outliers;
+  if (!c.confusion.empty()) {
+    nlohmann::ordered_json conf = nlohmann::ordered_json::array();
+    for (const ConfusionCounts& m : c.confusion)
+      conf.push_back({{"estimator", m.estimator}, {"classes", m.classes}, {"counts", m.counts}});
+    j["confusion"] = conf;
+  }
   if (!c.roc.empty()) {
     nlohmann::ordered_json roc = nlohmann::ordered_json::array();
     for (const RocSamples& s : c.roc) roc.push_back({{"estimator", s.estimator}, {"class", s.class_name}, {"tpr", s.tpr}});
@@ -241,6 +247,14 @@ CaseResult case_from_json(const nlohmann::json& j) {
   }
   if (j.contains("disparity_error_px")) c.disparity_error_px = j.at("disparity_error_px").get<double>();
   if (j.contains("disparity_outliers")) c.disparity_outliers = j.at("disparity_outliers").get<double>();
+  if (j.contains("confusion")) {
+    for (const auto& m : j.at("confusion")) {
+      ConfusionCounts x{m.at("estimator").get<std::string>(), m.at("classes").get<std::vector<std::string>>(),
+                        m.at("counts").get<std::vector<long long>>()};
+      if (x.counts.size() != x.classes.size() * x.classes.size()) throw std::runtime_error("confusion of the wrong size");
+      c.confusion.push_back(std::move(x));
+    }
+  }
   if (j.contains("roc")) {
     for (const auto& r : j.at("roc")) {
       RocSamples s{r.at("estimator").get<std::string>(), r.at("class").get<std::string>(),

@@ -44,6 +44,13 @@ struct RocSamples {
   std::vector<double> tpr;  // kRocGrid values
 };
 
+// The confusion matrix of a classification estimator on the case's test points.
+struct ConfusionCounts {
+  std::string estimator;
+  std::vector<std::string> classes;  // K
+  std::vector<long long> counts;     // K x K, row-major: rows true class, columns predicted
+};
+
 struct CaseResult {
   int condition = 0;
   int bunch = 0;
@@ -66,6 +73,7 @@ struct CaseResult {
   double peduncle_kept = 0, body_kept = 0;
   std::vector<EstimateRow> rows;
   std::vector<RocSamples> roc;  // classification: per estimator and class
+  std::vector<ConfusionCounts> confusion;  // classification: per estimator
   // classification: the reconstruction's disparity error as the noise model's sigma_d
   // (px): 1.4826 x median |z - z_true| f b / z^2 over the matched pixels (sgbm), or the
   // model's own sd (noise_model); -1 for other protocols.

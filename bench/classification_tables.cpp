@@ -37,6 +37,39 @@ std::vector<std::pair<std::string, std::vector<double>>> mean_roc(const std::vec
   return out;
 }
 
+std::vector<PooledConfusion> pooled_confusion(const std::vector<CaseResult>& cases, int condition) {
+  std::vector<PooledConfusion> out;
+  for (const CaseResult& c : cases) {
+    if (c.condition != condition) continue;
+    for (const ConfusionCounts& m : c.confusion) {
+      auto it = std::find_if(out.begin(), out.end(), [&](const auto& e) { return e.estimator == m.estimator; });
+      if (it == out.end()) {
+        out.push_back({m.estimator, m.classes, std::vector<long long>(m.counts.size(), 0), 0, 0});
+        it = out.end() - 1;
+      }
+      if (it->counts.size() != m.counts.size()) continue;  // another class set: not pooled
+      for (std::size_t i = 0; i < m.counts.size(); ++i) it->counts[i] += m.counts[i];
+    }
+  }
+  for (PooledConfusion& p : out) {
+    const std::size_t k = p.classes.size();
+    long long total = 0, right = 0;
+    double iou_sum = 0;
+    int defined = 0;
+    for (std::size_t a = 0; a < k; ++a) {
+      long long row = 0, col = 0;
+      for (std::size_t b = 0; b < k; ++b) row += p.counts[a * k + b], col += p.counts[b * k + a];
+      total += row;
+      right += p.counts[a * k + a];
+      const long long uni = row + col - p.counts[a * k + a];
+      if (uni > 0) iou_sum += static_cast<double>(p.counts[a * k + a]) / static_cast<double>(uni), ++defined;
+    }
+    p.accuracy = total ? static_cast<double>(right) / static_cast<double>(total) : NAN;
+    p.miou = defined ? iou_sum / defined : NAN;
+  }
+  return out;
+}
+
 std::vector<ClassificationCell> classification_cells(const std::vector<CaseResult>& cases,
                                                      const std::vector<std::string>& labels) {
   std::vector<ClassificationCell> cells;

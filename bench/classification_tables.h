@@ -26,6 +26,16 @@ std::vector<ClassificationCell> classification_cells(const std::vector<CaseResul
 std::vector<std::pair<std::string, std::vector<double>>> mean_roc(const std::vector<CaseResult>& cases, int condition,
                                                                   const std::string& class_name);
 
+// Per estimator, the confusion matrices of the condition's cases summed (pooled over
+// every test point), with the accuracy and mIoU of the pooled matrix.
+struct PooledConfusion {
+  std::string estimator;
+  std::vector<std::string> classes;
+  std::vector<long long> counts;  // K x K, rows true
+  double accuracy = 0, miou = 0;
+};
+std::vector<PooledConfusion> pooled_confusion(const std::vector<CaseResult>& cases, int condition);
+
 // True for the rows the classification protocol writes.
 bool is_classification_row(const std::string& quantity);
 

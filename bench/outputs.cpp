@@ -120,6 +120,14 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
                        {"disparity_outliers", jnum(c.disparity_outliers)}});
     }
     j["reconstruction"] = rec;
+    nlohmann::ordered_json conf = nlohmann::ordered_json::array();
+    for (std::size_t k = 0; k < set.conditions.size(); ++k) {
+      for (const PooledConfusion& p : pooled_confusion(cases, static_cast<int>(k))) {
+        conf.push_back({{"condition", condition_labels(set)[k]}, {"estimator", p.estimator}, {"classes", p.classes},
+                        {"counts", p.counts}, {"pooled_accuracy", jnum(p.accuracy)}, {"pooled_miou", jnum(p.miou)}});
+      }
+    }
+    j["confusion"] = conf;
   }
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const auto& r : scores) {

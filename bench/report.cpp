@@ -643,6 +643,25 @@ void classification_section(const ReportContext& ctx, [[maybe_unused]] Report& r
       << esc(c.quantity) << "</td><td>" << c.cases << "</td><td>" << fmt(c.mean, 4) << "</td><td>" << fmt(c.min, 4)
       << "</td><td>" << fmt(c.max, 4) << "</td></tr>\n";
   }
+  h << "</table>\n<p>Confusion matrices summed over the cases (rows: true class; columns: predicted), with the "
+       "accuracy and mIoU of the summed matrix (pooled over every test point; the table above averages per case).</p>"
+       "\n<table><tr><th class=l>condition</th><th class=l>estimator</th><th class=l>true class</th>";
+  const std::vector<PooledConfusion> first = pooled_confusion(ctx.cases, 0);
+  for (const auto& name : first.empty() ? std::vector<std::string>{} : first.front().classes)
+    h << "<th>as " << esc(name) << "</th>";
+  h << "<th>pooled accuracy</th><th>pooled mIoU</th></tr>\n";
+  for (std::size_t k = 0; k < labels.size(); ++k) {
+    for (const PooledConfusion& p : pooled_confusion(ctx.cases, static_cast<int>(k))) {
+      const std::size_t n = p.classes.size();
+      for (std::size_t a = 0; a < n; ++a) {
+        h << "<tr><td class=l>" << esc(labels[k]) << "</td><td class=l>" << esc(p.estimator) << "</td><td class=l>"
+          << esc(p.classes[a]) << "</td>";
+        for (std::size_t b = 0; b < n; ++b) h << "<td>" << p.counts[a * n + b] << "</td>";
+        h << "<td>" << (a == 0 ? fmt(p.accuracy, 4) : "") << "</td><td>" << (a == 0 ? fmt(p.miou, 4) : "")
+          << "</td></tr>\n";
+      }
+    }
+  }
   h << "</table>\n<p>Figs. 4-7: the berry class's ROC curves, averaged over the cases at each false-positive rate; "
        "the second plot magnifies false-positive rates up to 0.2.</p>\n<div class=plots>";
   for (std::size_t k = 0; k < labels.size(); ++k) {

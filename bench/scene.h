@@ -82,6 +82,10 @@ struct PipelineSpec {
   MvsNoiseParams noise_model;
   SgbmParams sgbm;
   FusionParams fusion;
+  // Each view's pose in the back-projection: the true one moved by a random rotation
+  // (normal angle of this sd about a random axis) and translation (normal per axis).
+  double pose_rotation_sd = 0;     // deg, [0, 30]
+  double pose_translation_sd = 0;  // m, [0, 1]
   double split_gap = 0.3;
   double min_points = 100;  // a case with fewer bunch points fails, [4, 1e9]
   // m, sample step of the rig's visibility hull (sensors/visibility_hull.h), reported

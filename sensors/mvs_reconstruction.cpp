@@ -79,8 +79,10 @@ FusedCloud fuse_returns(const std::vector<LabelledReturn>& returns, const Fusion
 }
 
 FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const FusionParams& fusion,
-                              std::uint64_t seed) {
+                              std::uint64_t seed, const std::vector<Eigen::Isometry3d>& poses) {
   const std::size_t nv = scan.views.size();
+  if (!poses.empty() && poses.size() != nv)
+    throw InputError("mvs reconstruction: " + std::to_string(poses.size()) + " poses for " + std::to_string(nv) + " views");
   if (nv < 2) throw InputError("mvs reconstruction: the pass needs at least two views (it has " + std::to_string(nv) + ")");
   std::vector<LabelledReturn> returns;
   for (std::size_t k = 0; k < nv; ++k) {
@@ -91,6 +93,7 @@ FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const F
     }
     if (!(b > 1e-6)) throw InputError("mvs reconstruction: views " + v.rig.name + " and another stand at one place");
     const double f = v.camera.K.fx;
+    const Eigen::Isometry3d& pose = poses.empty() ? v.camera.pose : poses[k];
     const OrganisedCloud& c = v.cloud;
     for (std::size_t i = 0; i < c.size(); ++i) {
       if (!c.valid[i]) continue;
@@ -106,7 +109,7 @@ FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const F
         if (d < 0.5) continue;  // no match in front of the camera
         z_new = f * b / d;
       }
-      returns.push_back({v.camera.pose * (x * (z_new / z)), c.rgb[i], part, static_cast<int>(k), sd});
+      returns.push_back({pose * (x * (z_new / z)), c.rgb[i], part, static_cast<int>(k), sd});
     }
   }
   return fuse_returns(returns, fusion);

@@ -58,8 +58,9 @@ FusedCloud fuse_returns(const std::vector<LabelledReturn>& returns, const Fusion
 // The pass's views (at least two, for the baseline) through the noise model, then
 // fuse_returns. Deterministic in `seed` at any thread count (each pixel's error is
 // hashed from the seed, view and pixel). Throws InputError for fewer than two views or
-// two views at one place.
+// two views at one place. `poses` (camera to world, one per view) replaces the views'
+// true poses in the back-projection when given (an SfM's or perturbed poses).
 FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const FusionParams& fusion,
-                              std::uint64_t seed);
+                              std::uint64_t seed, const std::vector<Eigen::Isometry3d>& poses = {});
 
 }  // namespace grapebench

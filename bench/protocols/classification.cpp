@@ -80,7 +80,7 @@ std::vector<double> sample_roc(const RocCurve& curve) {
 
 std::vector<EstimateRow> classification_rows(const EstimateRow& base, const Estimate& e,
                                              const std::vector<int>& train_labels, const std::vector<int>& truth,
-                                             std::vector<RocSamples>* roc) {
+                                             std::vector<RocSamples>* roc, std::vector<ConfusionCounts>* confusion) {
   const std::vector<std::string>& classes = plant_classes();
   const char* kinds[] = {"auc_", "iou_", "precision_", "recall_"};
   std::vector<EstimateRow> rows;
@@ -122,6 +122,12 @@ std::vector<EstimateRow> classification_rows(const EstimateRow& base, const Esti
   for (std::size_t c = 0; c < classes.size(); ++c) rows.push_back(rate(b, "iou_" + classes[c], s.iou[c]));
   for (std::size_t c = 0; c < classes.size(); ++c) rows.push_back(rate(b, "precision_" + classes[c], s.precision[c]));
   for (std::size_t c = 0; c < classes.size(); ++c) rows.push_back(rate(b, "recall_" + classes[c], s.recall[c]));
+  if (confusion) {
+    ConfusionCounts m{base.estimator, classes, {}};
+    for (Eigen::Index t = 0; t < k; ++t)
+      for (Eigen::Index p = 0; p < k; ++p) m.counts.push_back(s.confusion(t, p));
+    confusion->push_back(std::move(m));
+  }
   if (roc) {
     for (std::size_t c = 0; c < classes.size(); ++c) roc->push_back({base.estimator, classes[c], sample_roc(s.roc[c])});
   }
@@ -136,11 +142,35 @@ RayScene build_row(const Scene& scene, const BunchJob& job) {
   return scene_rays(scene, vine_row(bunches, row, derive_seed(job.seed, 0x4a1e)), job.seed);
 }
 
+std::vector<Eigen::Isometry3d> perturbed_poses(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed,
+                                               CaseResult& r) {
+  std::vector<Eigen::Isometry3d> poses;
+  Rng rng(derive_seed(seed, 0x9053));
+  double rot_sum = 0, rot_max = 0, tr_sum = 0, tr_max = 0;
+  for (const ScanView& v : scan.views) {
+    const Vec3 axis = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
+    const double angle = pl.pose_rotation_sd * M_PI / 180 * rng.normal();
+    const Vec3 shift(pl.pose_translation_sd * rng.normal(), pl.pose_translation_sd * rng.normal(),
+                     pl.pose_translation_sd * rng.normal());
+    Eigen::Isometry3d pose = v.camera.pose;
+    pose.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix() * pose.linear();  // about the camera centre
+    pose.translation() += shift;
+    poses.push_back(pose);
+    rot_sum += std::abs(angle) * 180 / M_PI, rot_max = std::max(rot_max, std::abs(angle) * 180 / M_PI);
+    tr_sum += shift.norm() * 1e3, tr_max = std::max(tr_max, shift.norm() * 1e3);
+  }
+  const double n = std::max<double>(1, static_cast<double>(poses.size()));
+  r.rotation_error_mean_deg = rot_sum / n, r.rotation_error_max_deg = rot_max;
+  r.translation_error_mean_mm = tr_sum / n, r.translation_error_max_mm = tr_max;
+  return poses;
+}
+
 FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed, CaseResult& r) {
+  const std::vector<Eigen::Isometry3d> poses = perturbed_poses(pl, scan, seed, r);
   if (pl.reconstruction == PipelineSpec::Reconstruction::NoiseModel) {
     r.disparity_error_px = pl.noise_model.disparity_sd;
     r.disparity_outliers = 0;
-    return mvs_reconstruction(scan, pl.noise_model, pl.fusion, seed);
+    return mvs_reconstruction(scan, pl.noise_model, pl.fusion, seed, poses);
   }
   std::vector<LabelledReturn> returns;
   std::vector<double> disparity_error;  // px, per matched pixel with a true depth
@@ -154,7 +184,7 @@ FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t s
       const auto part = static_cast<Part>(view.cloud.label[pixel]);
       const double z = c.points(i, 2), truth = view.cloud.truth(pixel);
       if (truth > 0) disparity_error.push_back(std::abs(z - truth) * in.stereo->fx * in.stereo->baseline / (z * z));
-      returns.push_back({view.camera.pose * Vec3(c.points.row(i).transpose()), c.colours[static_cast<std::size_t>(i)],
+      returns.push_back({poses[k] * Vec3(c.points.row(i).transpose()), c.colours[static_cast<std::size_t>(i)],
                          part, static_cast<int>(k), 0.0});
     }
   }
@@ -190,7 +220,8 @@ CaseResult run_classification(const Condition& condition, int condition_index, c
     in.classes = plant_classes();
     for (const EstimatorSpec& spec : scene.estimators) {
       const TimedEstimate t = run_estimator(spec, in);
-      for (EstimateRow& row : classification_rows(estimate_row(spec, t), t.estimate, in.train_labels, truth, &r.roc))
+      for (EstimateRow& row : classification_rows(estimate_row(spec, t), t.estimate, in.train_labels, truth, &r.roc,
+                                                  &r.confusion))
         r.rows.push_back(std::move(row));
     }
     r.ok = true;

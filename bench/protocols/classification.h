@@ -25,7 +25,8 @@ int plant_class(Part part);
 RayScene build_row(const Scene& scene, const BunchJob& job);
 
 // Stage "reconstruct": the pass's views to one coloured cloud with exact labels (the
-// scene's reconstruction); the disparity error goes into `r`.
+// scene's reconstruction), back-projected with each view's pose perturbed by the
+// scene's pose errors; the disparity and pose errors go into `r`.
 FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed, CaseResult& r);
 
 // Stage "split": per point of the fused cloud, its class where it lies in the training
@@ -37,10 +38,12 @@ std::vector<int> split_row(FusedCloud& cloud, double gap, std::vector<int>& trut
 // Stage "score": an estimator's rows from its class scores on the test points:
 // accuracy, miou, berry_tpr and berry_fpr (the operating point of the argmax labels),
 // and per class auc_, iou_, precision_, recall_ (estimate beside a truth of 1).
-// `roc` (when given) receives the per-class curves sampled on the kRocGrid.
+// `roc` and `confusion` (when given) receive the per-class curves sampled on the
+// kRocGrid and the confusion matrix.
 std::vector<EstimateRow> classification_rows(const EstimateRow& base, const Estimate& e,
                                              const std::vector<int>& train_labels, const std::vector<int>& truth,
-                                             std::vector<RocSamples>* roc = nullptr);
+                                             std::vector<RocSamples>* roc = nullptr,
+                                             std::vector<ConfusionCounts>* confusion = nullptr);
 
 // The curve's best true-positive rate at or below each false-positive rate of the grid.
 std::vector<double> sample_roc(const RocCurve& curve);

@@ -734,6 +734,31 @@ TEST(External, ClassificationRequestAndScoreAnswer) {
   EXPECT_EQ(aucs, 1);
 }
 
+// Perturbed poses: the back-projection uses each view's pose moved by the scene's pose
+// errors; the case records their size, and a shape-only classifier suffers.
+TEST(Run, ClassificationWithPerturbedPoses) {
+  std::string yaml = small_row_scene("rows_poses", 1) +
+                     "  - {name: s2, type: dey2012_classification, train_per_class: 150, features: {radius: 0.03, "
+                     "colour: false}, crf: false}\n";
+  const SceneSet exact = parse_scene_set(yaml, "exact.yaml");
+  const std::string at = "pipeline: {split_gap: 0.2,";
+  yaml.replace(yaml.find(at), at.size(), "pipeline: {pose_rotation_sd: 2, pose_translation_sd: 0.01, split_gap: 0.2,");
+  const SceneSet moved = parse_scene_set(yaml, "moved.yaml");
+  const fs::path a = fresh_dir("rows_exact_poses"), b = fresh_dir("rows_moved_poses");
+  run_scene_set(exact, quiet(a, 2));
+  run_scene_set(moved, quiet(b, 2));
+  const std::string ca = slurp(a / "results.csv"), cb = slurp(b / "results.csv");
+  const EstimatorRows ra = rows_of(ca, "s2"), rb = rows_of(cb, "s2");
+  double auc_a = NAN, auc_b = NAN;
+  for (const auto& [key, v] : ra.estimate) if (key.ends_with("/auc_berry")) auc_a = v;
+  for (const auto& [key, v] : rb.estimate) if (key.ends_with("/auc_berry")) auc_b = v;
+  EXPECT_LT(auc_b, auc_a);  // views no longer agree: smeared shapes
+  EXPECT_NE(cb.find("rotation_error_max_deg"), std::string::npos);
+  const nlohmann::json one = nlohmann::json::parse(slurp(*fs::directory_iterator(b / "cases")));
+  EXPECT_GT(one["rotation_error_mean_deg"].get<double>(), 0.5);
+  EXPECT_GT(one["translation_error_mean_mm"].get<double>(), 5);
+}
+
 TEST(Run, ClassificationNeedsItsRowAndLabelledCloudEstimators) {
   const std::string base = "name: x\nseed: 1\nbunches: [{preset: green-table}]\nsensor: {type: ideal}\n"
                            "rig: {type: robot_pass}\n";

@@ -3,6 +3,7 @@
 // against values computed by hand.
 #include <gtest/gtest.h>
 
+#include "bench/classification_tables.h"
 #include "bench/protocols/classification.h"
 
 namespace grapebench {
@@ -51,7 +52,11 @@ TEST(Classification, RowsRateTheTestPartOnly) {
       0.9, 0.0, 0.1;                  // training point: ignored
   EstimateRow base;
   base.estimator = "e";
-  const std::vector<EstimateRow> rows = classification_rows(base, e, train, truth);
+  std::vector<ConfusionCounts> confusion;
+  const std::vector<EstimateRow> rows = classification_rows(base, e, train, truth, nullptr, &confusion);
+  ASSERT_EQ(confusion.size(), 1u);
+  // Rows true berry, branch, leaf; columns predicted.
+  EXPECT_EQ(confusion[0].counts, (std::vector<long long>{1, 1, 0, 0, 1, 0, 1, 0, 1}));
   EXPECT_DOUBLE_EQ(row(rows, "accuracy"), 3.0 / 5);
   EXPECT_DOUBLE_EQ(row(rows, "berry_tpr"), 0.5);        // 1 of 2 berries
   EXPECT_DOUBLE_EQ(row(rows, "berry_fpr"), 1.0 / 3);    // 1 of 3 others called berry
@@ -69,6 +74,21 @@ TEST(Classification, RowsRateTheTestPartOnly) {
     EXPECT_FALSE(r.ok);
     EXPECT_NE(r.error.find("2 x 3"), std::string::npos);
   }
+}
+
+TEST(Classification, ConfusionPooledOverCases) {
+  // Two cases of one condition: the sums, and accuracy and mIoU of the summed matrix.
+  CaseResult a, b, other;
+  a.confusion.push_back({"e", {"x", "y"}, {3, 1, 0, 4}});
+  b.confusion.push_back({"e", {"x", "y"}, {1, 0, 2, 1}});
+  other.condition = 1;
+  other.confusion.push_back({"e", {"x", "y"}, {100, 0, 0, 0}});
+  const std::vector<PooledConfusion> p = pooled_confusion({a, b, other}, 0);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].counts, (std::vector<long long>{4, 1, 2, 5}));
+  EXPECT_DOUBLE_EQ(p[0].accuracy, 9.0 / 12);
+  // IoU x = 4 / (5 + 6 - 4) = 4/7; IoU y = 5 / (7 + 6 - 5) = 5/8.
+  EXPECT_DOUBLE_EQ(p[0].miou, (4.0 / 7 + 5.0 / 8) / 2);
 }
 
 }  // namespace
