@@ -187,6 +187,7 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   j["rows"] = rows;
   if (c.disparity_error_px >= 0) j["disparity_error_px"] = c.disparity_error_px;
   if (c.disparity_outliers >= 0) j["disparity_outliers"] = c.disparity_outliers;
+  if (c.views_registered >= 0) j["views_registered"] = c.views_registered;
   if (!c.confusion.empty()) {
     nlohmann::ordered_json conf = nlohmann::ordered_json::array();
     for (const ConfusionCounts& m : c.confusion)
@@ -247,6 +248,7 @@ CaseResult case_from_json(const nlohmann::json& j) {
   }
   if (j.contains("disparity_error_px")) c.disparity_error_px = j.at("disparity_error_px").get<double>();
   if (j.contains("disparity_outliers")) c.disparity_outliers = j.at("disparity_outliers").get<double>();
+  if (j.contains("views_registered")) c.views_registered = j.at("views_registered").get<int>();
   if (j.contains("confusion")) {
     for (const auto& m : j.at("confusion")) {
       ConfusionCounts x{m.at("estimator").get<std::string>(), m.at("classes").get<std::vector<std::string>>(),

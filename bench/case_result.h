@@ -78,7 +78,8 @@ struct CaseResult {
   // (px): 1.4826 x median |z - z_true| f b / z^2 over the matched pixels (sgbm), or the
   // model's own sd (noise_model); -1 for other protocols.
   double disparity_error_px = -1;
-  double disparity_outliers = -1;  // fraction of matched pixels off by more than 3 px (sgbm; 0 for the model)
+  double disparity_outliers = -1;
+  int views_registered = -1;  // classification with poses: colmap: views the SfM placed  // fraction of matched pixels off by more than 3 px (sgbm; 0 for the model)
   // Not deterministic:
   double scan_seconds = 0, segmentation_seconds = 0, registration_seconds = 0, filter_seconds = 0;
 };

@@ -79,12 +79,18 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
           .section("fusion", &P::fusion, fusion_param_table(),
                    "the views' points to one cloud on a voxel grid, with multi-view consistency")
           .when("protocol: classification", classification)
+          .choice("poses", &P::poses, {{"true", P::Poses::True}, {"colmap", P::Poses::Colmap}},
+                  "the views' poses in the back-projection: the rig's, or COLMAP's sparse SfM from the images (seed "
+                  "004 Sect. 3.1: Bundler), similarity-fitted to the true camera centres")
+          .when("protocol: classification", classification)
+          .section("colmap", &P::colmap, colmap_param_table(), "COLMAP's run (CPU: SIFT, sequential matching, mapper)")
+          .when("poses: colmap", [](const P& p) { return classification(p) && p.poses == P::Poses::Colmap; })
           .real("pose_rotation_sd", "deg", &P::pose_rotation_sd, 0, 30,
                 "error of each view's pose: normal rotation angle about a random axis (0: the true poses)")
-          .when("protocol: classification", classification)
+          .when("poses: true", [](const P& p) { return classification(p) && p.poses == P::Poses::True; })
           .real("pose_translation_sd", "m", &P::pose_translation_sd, 0, 1,
                 "error of each view's pose: normal translation per axis (0: the true poses)")
-          .when("protocol: classification", classification)
+          .when("poses: true", [](const P& p) { return classification(p) && p.poses == P::Poses::True; })
           .real("split_gap", "m", &P::split_gap, 0, 10,
                 "gap along the row between the training part (x below) and the test part (x above); at least twice "
                 "the largest feature or CRF radius, so no neighbourhood is shared (seed 004 Sect. 4.2)")

@@ -13,6 +13,7 @@
 #include "bench/protocols/registration_methods.h"
 #include "sensors/rig.h"
 #include "sensors/sensor_registry.h"
+#include "algorithms/colmap_sfm.h"
 #include "algorithms/sgbm_reconstruction.h"
 #include "sensors/mvs_reconstruction.h"
 #include "synth/foliage.h"
@@ -84,6 +85,12 @@ struct PipelineSpec {
   FusionParams fusion;
   // Each view's pose in the back-projection: the true one moved by a random rotation
   // (normal angle of this sd about a random axis) and translation (normal per axis).
+  // true: the rig's poses (perturbed as below); colmap: estimated from the views'
+  // colour images by COLMAP's sparse SfM, brought to metric scale by a similarity fit of
+  // its camera centres to the true ones (Umeyama), then scored against the true poses.
+  enum class Poses { True, Colmap };
+  Poses poses = Poses::True;
+  ColmapParams colmap;
   double pose_rotation_sd = 0;     // deg, [0, 30]
   double pose_translation_sd = 0;  // m, [0, 1]
   double split_gap = 0.3;

@@ -15,6 +15,7 @@ packages=(
   libopencv-imgproc-dev  # seed 001's image steps (core + imgproc; not the 270 MiB metapackage)
   libopencv-calib3d-dev libopencv-ml-dev  # seed 004: StereoSGBM, EM (the GMM baseline)
   libsvm-dev libnanoflann-dev  # seed 004: the SVM; k-d trees of the per-point features
+  colmap  # seed 004: poses from the images (sparse SfM, CPU; run as a program)
   python3-open3d python3-jsonschema  # the external-estimator example, its tests and the protocol schema check
   libopen3d-dev   # benchmark only: bench/perf/open3d_perf.cpp compares with Open3D
 )

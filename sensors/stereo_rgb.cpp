@@ -66,9 +66,18 @@ RenderMesh render_mesh(const Bunch& bunch, int level) {
   return r;
 }
 
-// The scene's foliage as the ray scene holds it: leaf triangles (flat, both faces lit)
-// and canes as 12-sided tubes with flat caps, one colour each.
-RenderMesh foliage_mesh(const Foliage& f) {
+// A leaf point's colour factor: 1 + amplitude * (a hashed value of its 3 mm cell, in
+// [-1, 1]): the same on the surface in every view.
+float leaf_shade(const Vec3& p, double amplitude) {
+  const auto cell = [](double v) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / 0.003)) + (1 << 20)); };
+  const std::uint64_t key = (cell(p.x()) * 73856093ULL) ^ (cell(p.y()) * 19349663ULL) ^ (cell(p.z()) * 83492791ULL);
+  return static_cast<float>(1 + amplitude * (2 * hashed_uniform(0x1eaf7e47, key) - 1));
+}
+
+// The scene's foliage as the ray scene holds it: leaf triangles (flat, both faces lit;
+// with a texture, each split into cells^2 with shaded vertices) and canes as 12-sided
+// tubes with flat caps, one colour each.
+RenderMesh foliage_mesh(const Foliage& f, double texture, int cells) {
   RenderMesh r;
   auto vertex = [&](const Vec3& p, const Vec3& n, const Rgb& c) {
     for (int k = 0; k < 3; ++k) {
@@ -82,7 +91,22 @@ RenderMesh foliage_mesh(const Foliage& f) {
     const auto& tri = f.triangles[t];
     const Vec3 &a = f.vertices[tri[0]], &b = f.vertices[tri[1]], &c = f.vertices[tri[2]];
     const Vec3 n = (b - a).cross(c - a).normalized();
-    for (const Vec3* p : {&a, &b, &c}) vertex(*p, n, f.triangle_colour[t]);
+    if (texture <= 0) {
+      for (const Vec3* p : {&a, &b, &c}) vertex(*p, n, f.triangle_colour[t]);
+      continue;
+    }
+    const Rgb base = f.triangle_colour[t];
+    const auto at = [&](int i, int j) { return a + (b - a) * (static_cast<double>(i) / cells) + (c - a) * (static_cast<double>(j) / cells); };
+    const auto shaded = [&](const Vec3& p) {
+      const float s = leaf_shade(p, texture);
+      vertex(p, n, Rgb{std::min(1.0f, base.r * s), std::min(1.0f, base.g * s), std::min(1.0f, base.b * s)});
+    };
+    for (int i = 0; i < cells; ++i) {
+      for (int j = 0; i + j < cells; ++j) {
+        shaded(at(i, j)), shaded(at(i + 1, j)), shaded(at(i, j + 1));
+        if (i + j + 1 < cells) shaded(at(i + 1, j)), shaded(at(i + 1, j + 1)), shaded(at(i, j + 1));
+      }
+    }
   }
   constexpr int sides = 12;
   for (const Stem& s : f.canes) {
@@ -150,7 +174,7 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
   OrganisedCloud out = capture_exact(scene, left);
 
   const RenderMesh mesh = render_mesh(scene.bunch(), p_.mesh_level);
-  const RenderMesh leaves = foliage_mesh(scene.foliage());
+  const RenderMesh leaves = foliage_mesh(scene.foliage(), p_.leaf_texture, p_.texture_cells);
   const int W = p_.width, H = p_.height;
   const std::vector<unsigned char> texture = foliage_texture(256, derive_seed(seed, 1));
   // A background square behind the bunch, facing the left camera.
@@ -386,7 +410,11 @@ const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
           .when("light: custom", custom)
           .real("backdrop", "-", &P::backdrop, 0, 3, "custom: brightness of the backdrop (backlit leaves above 1)")
           .when("light: custom", custom)
-          .real("exposure", "-", &P::exposure, 0.1, 10, "gain on every pixel before the noise");
+          .real("exposure", "-", &P::exposure, 0.1, 10, "gain on every pixel before the noise")
+          .real("leaf_texture", "-", &P::leaf_texture, 0, 1,
+                "relative colour variation fixed to the leaf surface, for matching (0: flat leaves)")
+          .integer("texture_cells", "count", &P::texture_cells, 1, 32, "leaf triangles split into this many squared")
+          .when("leaf_texture above 0", [](const P& p) { return p.leaf_texture > 0; });
   return table;
 }
 

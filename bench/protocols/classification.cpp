@@ -142,6 +142,79 @@ RayScene build_row(const Scene& scene, const BunchJob& job) {
   return scene_rays(scene, vine_row(bunches, row, derive_seed(job.seed, 0x4a1e)), job.seed);
 }
 
+namespace {
+
+// The view's colour image: the rendered left image, or the returns' colours (black
+// where no ray returned).
+RgbImage view_image(const ScanView& v) {
+  const OrganisedCloud& c = v.cloud;
+  RgbImage im{c.width, c.height, c.left_image};
+  if (!im.data.empty()) return im;
+  im.data.assign(c.size() * 3, 0);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!c.valid[i]) continue;
+    for (std::size_t ch = 0; ch < 3; ++ch) im.data[3 * i + ch] = c.rgb[i][ch];
+  }
+  return im;
+}
+
+double rotation_angle_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle() * 180 / M_PI;
+}
+
+// COLMAP's poses in the true frame by a similarity fit: the rotation from the cameras'
+// orientations (chordal mean of R_true R_colmap^T; the centres of a straight pass are
+// collinear and leave the roll about the line free), then scale and shift by least
+// squares on the centres. Views it did not register keep no pose (their points are
+// dropped).
+std::vector<std::optional<Eigen::Isometry3d>> colmap_poses(const PipelineSpec& pl, const Scan& scan,
+                                                           std::uint64_t seed, CaseResult& r) {
+  std::vector<RgbImage> images;
+  for (const ScanView& v : scan.views) images.push_back(view_image(v));
+  const Intrinsics& k = scan.views.front().camera.K;
+  const ColmapPoses c = colmap_sfm(images, k.fx, k.fy, k.cx, k.cy, pl.colmap, seed);
+  r.views_registered = c.registered;
+  if (c.registered < 3) throw InputError("colmap registered " + std::to_string(c.registered) + " of " +
+                                         std::to_string(scan.views.size()) + " views; a similarity fit needs 3");
+  Eigen::Matrix3Xd from(3, c.registered), to(3, c.registered);
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  int n = 0;
+  for (std::size_t i = 0; i < c.poses.size(); ++i) {
+    if (!c.poses[i]) continue;
+    from.col(n) = c.poses[i]->translation(), to.col(n) = scan.views[i].camera.centre(), ++n;
+    sum += scan.views[i].camera.pose.linear() * c.poses[i]->linear().transpose();
+  }
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(sum, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d rot = svd.matrixU() * svd.matrixV().transpose();
+  if (rot.determinant() < 0) rot = svd.matrixU() * Eigen::Vector3d(1, 1, -1).asDiagonal() * svd.matrixV().transpose();
+  const Eigen::Matrix3Xd turned = rot * from;
+  const Eigen::Vector3d mf = turned.rowwise().mean(), mt = to.rowwise().mean();
+  const double spread = (turned.colwise() - mf).squaredNorm();
+  if (!(spread > 0)) throw InputError("colmap placed every registered view at one point");
+  const double scale = ((turned.colwise() - mf).cwiseProduct(to.colwise() - mt)).sum() / spread;
+  if (!(scale > 0)) throw InputError("colmap's camera path runs against the true one (negative scale)");
+  Eigen::Matrix4d sim = Eigen::Matrix4d::Identity();
+  sim.block<3, 3>(0, 0) = scale * rot;
+  sim.block<3, 1>(0, 3) = mt - scale * mf;
+  std::vector<std::optional<Eigen::Isometry3d>> out(c.poses.size());
+  double rot_sum = 0, rot_max = 0, tr_sum = 0, tr_max = 0;
+  for (std::size_t i = 0; i < c.poses.size(); ++i) {
+    if (!c.poses[i]) continue;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = rot * c.poses[i]->linear();
+    pose.translation() = (sim * c.poses[i]->translation().homogeneous()).head<3>();
+    const double dr = rotation_angle_deg(pose.linear(), scan.views[i].camera.pose.linear());
+    const double dt = (pose.translation() - scan.views[i].camera.centre()).norm() * 1e3;
+    rot_sum += dr, rot_max = std::max(rot_max, dr), tr_sum += dt, tr_max = std::max(tr_max, dt);
+    out[i] = pose;
+  }
+  r.rotation_error_mean_deg = rot_sum / n, r.rotation_error_max_deg = rot_max;
+  r.translation_error_mean_mm = tr_sum / n, r.translation_error_max_mm = tr_max;
+  return out;
+}
+
+}  // namespace
+
 std::vector<Eigen::Isometry3d> perturbed_poses(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed,
                                                CaseResult& r) {
   std::vector<Eigen::Isometry3d> poses;
@@ -166,16 +239,32 @@ std::vector<Eigen::Isometry3d> perturbed_poses(const PipelineSpec& pl, const Sca
 }
 
 FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed, CaseResult& r) {
-  const std::vector<Eigen::Isometry3d> poses = perturbed_poses(pl, scan, seed, r);
+  std::vector<Eigen::Isometry3d> poses = perturbed_poses(pl, scan, seed, r);
+  std::vector<bool> placed(scan.views.size(), true);
+  if (pl.poses == PipelineSpec::Poses::Colmap) {
+    const auto estimated = colmap_poses(pl, scan, seed, r);
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      placed[k] = estimated[k].has_value();
+      if (placed[k]) poses[k] = *estimated[k];
+    }
+  }
   if (pl.reconstruction == PipelineSpec::Reconstruction::NoiseModel) {
     r.disparity_error_px = pl.noise_model.disparity_sd;
     r.disparity_outliers = 0;
-    return mvs_reconstruction(scan, pl.noise_model, pl.fusion, seed, poses);
+    if (std::find(placed.begin(), placed.end(), false) == placed.end())
+      return mvs_reconstruction(scan, pl.noise_model, pl.fusion, seed, poses);
+    Scan kept;  // only the views COLMAP placed
+    std::vector<Eigen::Isometry3d> kept_poses;
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      if (placed[k]) kept.views.push_back(scan.views[k]), kept_poses.push_back(poses[k]);
+    }
+    return mvs_reconstruction(kept, pl.noise_model, pl.fusion, seed, kept_poses);
   }
   std::vector<LabelledReturn> returns;
   std::vector<double> disparity_error;  // px, per matched pixel with a true depth
   for (std::size_t k = 0; k < scan.views.size(); ++k) {
     const ScanView& view = scan.views[k];
+    if (!placed[k]) continue;
     const EstimatorInput in = stereo_input(view);  // throws unless the sensor renders a colour pair
     const SgbmCloud c = sgbm_reconstruction(*in.stereo, pl.sgbm);
     for (Eigen::Index i = 0; i < c.points.rows(); ++i) {

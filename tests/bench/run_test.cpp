@@ -759,6 +759,32 @@ TEST(Run, ClassificationWithPerturbedPoses) {
   EXPECT_GT(one["translation_error_mean_mm"].get<double>(), 5);
 }
 
+// COLMAP's SfM as the pose source: rendered textured leaves, every view placed, its
+// poses (after the similarity fit) within a degree and a centimetre of the truth.
+TEST(Run, ClassificationWithColmapPoses) {
+  const std::string yaml = R"(name: rows_colmap
+seed: 11
+protocol: classification
+bunches:
+  - preset: green-table
+vine_row: {vines: 1, bunches_per_vine: 2}
+foliage: {leaves: 60, row_half_length: 0.4, occlusion: 0}
+sensor: {type: stereo_rgb, width: 400, height: 300, focal_length_mm: 4, background: plain, light: overcast,
+         leaf_texture: 0.4}
+rig: {type: robot_pass, frames: 6, spacing: 0.1, distance: 0.8}
+pipeline: {reconstruction: sgbm, poses: colmap, sgbm: {min_depth: 0.5, max_depth: 1.6}, split_gap: 0.1}
+estimators:
+  - {name: rgb, type: dey2012_classification, train_per_class: 100, features: {scales: 0}, crf: false}
+)";
+  const fs::path out = fresh_dir("rows_colmap");
+  run_scene_set(parse_scene_set(yaml, "rows_colmap.yaml"), quiet(out, 2));
+  const nlohmann::json c = nlohmann::json::parse(slurp(*fs::directory_iterator(out / "cases")));
+  ASSERT_TRUE(c["ok"].get<bool>()) << c["error"];
+  EXPECT_EQ(c["views_registered"], 6);
+  EXPECT_LT(c["rotation_error_max_deg"].get<double>(), 1.0);
+  EXPECT_LT(c["translation_error_max_mm"].get<double>(), 10.0);
+}
+
 TEST(Run, ClassificationNeedsItsRowAndLabelledCloudEstimators) {
   const std::string base = "name: x\nseed: 1\nbunches: [{preset: green-table}]\nsensor: {type: ideal}\n"
                            "rig: {type: robot_pass}\n";
