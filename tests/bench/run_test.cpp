@@ -718,10 +718,13 @@ TEST(External, ClassificationRequestAndScoreAnswer) {
   const std::string csv = slurp(out / "results.csv");
   const EstimatorRows schema = rows_of(csv, "schema");
   ASSERT_FALSE(schema.notes.empty()) << csv;
-  for (const auto& n : schema.notes) EXPECT_NE(n.find("schema ok: grapebench-estimator-2 classification"), std::string::npos) << n;
+  for (const auto& n : schema.notes)
+    EXPECT_NE(n.find("schema ok: grapebench-estimator-2 classification"), std::string::npos) << n;
   // Equal scores: every AUC is one half.
   for (const auto& [key, v] : schema.estimate) {
-    if (key.ends_with("/auc_berry")) EXPECT_DOUBLE_EQ(v, 0.5) << key;
+    if (key.ends_with("/auc_berry")) {
+      EXPECT_DOUBLE_EQ(v, 0.5) << key;
+    }
   }
   const EstimatorRows per_case = rows_of(csv, "colour_per_case"), persistent = rows_of(csv, "colour_persistent");
   expect_same_rows(per_case, persistent, 0, "persistent vs per case");
@@ -750,8 +753,12 @@ TEST(Run, ClassificationWithPerturbedPoses) {
   const std::string ca = slurp(a / "results.csv"), cb = slurp(b / "results.csv");
   const EstimatorRows ra = rows_of(ca, "s2"), rb = rows_of(cb, "s2");
   double auc_a = NAN, auc_b = NAN;
-  for (const auto& [key, v] : ra.estimate) if (key.ends_with("/auc_berry")) auc_a = v;
-  for (const auto& [key, v] : rb.estimate) if (key.ends_with("/auc_berry")) auc_b = v;
+  for (const auto& [key, v] : ra.estimate) {
+    if (key.ends_with("/auc_berry")) auc_a = v;
+  }
+  for (const auto& [key, v] : rb.estimate) {
+    if (key.ends_with("/auc_berry")) auc_b = v;
+  }
   EXPECT_LT(auc_b, auc_a);  // views no longer agree: smeared shapes
   EXPECT_NE(cb.find("rotation_error_max_deg"), std::string::npos);
   const nlohmann::json one = nlohmann::json::parse(slurp(*fs::directory_iterator(b / "cases")));
