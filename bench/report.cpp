@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "bench/classification_tables.h"
 #include "bench/stereo_tables.h"
@@ -532,29 +533,27 @@ void size_error_section(const ReportContext& ctx, Report& rep, std::ostringstrea
 // Time per estimator (all conditions pooled).
 void timing_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
-  {
-    std::vector<std::string> names;
-    std::vector<double> med, lo, hi;
-    std::vector<std::string> seen;
-    for (const auto& r : scores) {
-      if (std::find(seen.begin(), seen.end(), r.estimator) != seen.end()) continue;
-      seen.push_back(r.estimator);
-      std::vector<double> t;
-      for (const auto& cr : cases) {
-        if (!cr.ok) continue;
-        for (const auto& row : cr.rows) {
-          if (row.estimator == r.estimator && row.quantity == r.quantity) t.push_back(row.seconds);
-        }
+  std::vector<std::string> names;
+  std::vector<double> med, lo, hi;
+  // One time per run of each estimator: its rows of one case and one frame, ROI and
+  // region share it (every protocol, whatever output kinds its rows rate).
+  for (const EstimatorSpec& spec : set.base.estimators) {
+    std::vector<double> t;
+    for (const auto& cr : cases) {
+      if (!cr.ok) continue;
+      std::set<std::tuple<int, std::string, int>> runs;
+      for (const auto& row : cr.rows) {
+        if (row.estimator == spec.name && runs.emplace(row.frame, row.roi, row.region).second) t.push_back(row.seconds);
       }
-      names.push_back(r.estimator);
-      med.push_back(quantile(t, 0.5));
-      lo.push_back(quantile(t, 0.25));
-      hi.push_back(quantile(t, 0.75));
     }
-    const std::string svg = time_plot(names, med, lo, hi);
-    rep.svgs["time.svg"] = svg;
-    h << "<h2>Time per estimator</h2>\n" << svg;
+    names.push_back(spec.name);
+    med.push_back(quantile(t, 0.5));
+    lo.push_back(quantile(t, 0.25));
+    hi.push_back(quantile(t, 0.75));
   }
+  const std::string svg = time_plot(names, med, lo, hi);
+  rep.svgs["time.svg"] = svg;
+  h << "<h2>Time per estimator</h2>\n" << svg;
 }
 
 // Failures, if any, and the list of files.
