@@ -6,7 +6,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "algorithms/temp_folder.h"
 #include "synth/png.h"
 
 extern char** environ;
@@ -32,31 +32,6 @@ const ParamTable<ColmapParams>& colmap_param_table() {
 }
 
 namespace {
-
-struct Folder {
-  fs::path path;
-  Folder() {
-    static std::atomic<unsigned> counter{0};
-    path = fs::temp_directory_path() /
-           ("grapebench-colmap-" + std::to_string(getpid()) + "-" + std::to_string(counter.fetch_add(1)));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Folder() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-std::string tail_of(const fs::path& p, std::size_t n) {
-  std::ifstream in(p, std::ios::binary | std::ios::ate);
-  if (!in) return {};
-  const std::streamoff size = in.tellg(), from = size > static_cast<std::streamoff>(n) ? size - static_cast<std::streamoff>(n) : 0;
-  in.seekg(from);
-  std::string t(static_cast<std::size_t>(size - from), '\0');
-  in.read(t.data(), static_cast<std::streamsize>(t.size()));
-  return t;
-}
 
 // Runs args in its own process group with stdout and stderr appended to `log`; kills
 // the group at the deadline.
@@ -90,7 +65,7 @@ void run(std::vector<std::string> args, const fs::path& log, std::chrono::steady
   }
   kill(-pid, SIGKILL);  // nothing of the group outlives its step
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw InputError("colmap " + args[1] + " failed: " + tail_of(log, 400));
+    throw InputError("colmap " + args[1] + " failed: " + file_tail(log, 400));
 }
 
 }  // namespace
@@ -130,7 +105,7 @@ std::vector<std::pair<std::string, Eigen::Isometry3d>> parse_colmap_images(const
 ColmapPoses colmap_sfm(const std::vector<RgbImage>& images, double fx, double fy, double cx, double cy,
                        const ColmapParams& p, std::uint64_t seed) {
   if (images.size() < 2) throw InputError("colmap: needs at least two images");
-  const Folder dir;
+  const TempFolder dir("grapebench-colmap");
   const fs::path img = dir.path / "images", sparse = dir.path / "sparse", txt = dir.path / "txt",
                  log = dir.path / "log.txt", db = dir.path / "db.sqlite";
   fs::create_directories(img), fs::create_directories(sparse), fs::create_directories(txt);
@@ -159,7 +134,7 @@ ColmapPoses colmap_sfm(const std::vector<RgbImage>& images, double fx, double fy
        "--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
        "--Mapper.ba_refine_extra_params", "0", "--Mapper.init_min_tri_angle", "4"},
       log, deadline);
-  if (!fs::exists(sparse / "0")) throw InputError("colmap mapper made no model: " + tail_of(log, 400));
+  if (!fs::exists(sparse / "0")) throw InputError("colmap mapper made no model: " + file_tail(log, 400));
   run({p.program, "model_converter", "--input_path", (sparse / "0").string(), "--output_path", txt.string(),
        "--output_type", "TXT"},
       log, deadline);
@@ -177,7 +152,7 @@ ColmapPoses colmap_sfm(const std::vector<RgbImage>& images, double fx, double fy
   }
   std::ifstream pts(txt / "points3D.txt");
   for (std::string line; std::getline(pts, line);) out.points3d += !line.empty() && line[0] != '#';
-  out.log_tail = tail_of(log, 400);
+  out.log_tail = file_tail(log, 400);
   return out;
 }
 

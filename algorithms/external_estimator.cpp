@@ -8,7 +8,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -18,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include "algorithms/temp_folder.h"
 #include "synth/png.h"
 
 extern char** environ;
@@ -59,35 +59,6 @@ std::string ply_bytes(const PointCloud& c, const PointCloud* normals, const Poin
   }
   return out;
 }
-
-// The last n bytes of a file, read from there (a program may write gigabytes).
-std::string tail_of(const fs::path& p, std::size_t n) {
-  std::ifstream in(p, std::ios::binary | std::ios::ate);
-  if (!in) return {};
-  const std::streamoff size = in.tellg();
-  const std::streamoff from = size > static_cast<std::streamoff>(n) ? size - static_cast<std::streamoff>(n) : 0;
-  in.seekg(from);
-  std::string t(static_cast<std::size_t>(size - from), '\0');
-  in.read(t.data(), static_cast<std::streamsize>(t.size()));
-  if (from > 0) t = "..." + t;
-  while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
-  return t;
-}
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static std::atomic<unsigned> counter{0};
-    path = fs::temp_directory_path() /
-           ("grapebench-ext-" + std::to_string(getpid()) + "-" + std::to_string(counter.fetch_add(1)));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
 
 nlohmann::ordered_json matrix_json(const Eigen::Isometry3d& t) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
@@ -217,7 +188,7 @@ nlohmann::json run_once(const fs::path& dir, const ExternalParams& p) {
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     const std::string why = WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
                                               : "signal " + std::to_string(WTERMSIG(status));
-    fail(p, "failed (" + why + "): " + tail_of(err_path, 400));
+    fail(p, "failed (" + why + "): " + file_tail(err_path, 400));
   }
   const fs::path answer = dir / "answer.json";
   std::error_code ec;
@@ -276,7 +247,7 @@ class PersistentPrograms {
     pid_t pid = 0;
     int fd = -1;                   // our end of the socket that is the program's stdin and stdout
     std::string buffer;            // bytes read past the last answer line
-    std::unique_ptr<TempDir> dir;  // its stderr
+    std::unique_ptr<TempFolder> dir;  // its stderr
   };
 
   std::unique_ptr<Process> take() {
@@ -289,7 +260,7 @@ class PersistentPrograms {
       }
     }
     auto proc = std::make_unique<Process>();
-    proc->dir = std::make_unique<TempDir>();
+    proc->dir = std::make_unique<TempFolder>("grapebench-ext");
     int sv[2];
     if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) fail(p_, "socketpair failed");
     posix_spawn_file_actions_t fa;
@@ -335,7 +306,7 @@ class PersistentPrograms {
     for (std::size_t sent = 0; sent < line.size();) {
       wait_for(proc, POLLOUT, t0);
       const ssize_t k = ::send(proc.fd, line.data() + sent, line.size() - sent, MSG_NOSIGNAL);
-      if (k <= 0) fail(p_, "stopped reading requests: " + tail_of(proc.dir->path / "stderr.txt", 400));
+      if (k <= 0) fail(p_, "stopped reading requests: " + file_tail(proc.dir->path / "stderr.txt", 400));
       sent += static_cast<std::size_t>(k);
     }
   }
@@ -351,7 +322,7 @@ class PersistentPrograms {
       wait_for(proc, POLLIN, t0);
       char chunk[65536];
       const ssize_t k = ::read(proc.fd, chunk, sizeof chunk);
-      if (k <= 0) fail(p_, "exited before answering: " + tail_of(proc.dir->path / "stderr.txt", 400));
+      if (k <= 0) fail(p_, "exited before answering: " + file_tail(proc.dir->path / "stderr.txt", 400));
       proc.buffer.append(chunk, static_cast<std::size_t>(k));
     }
   }
@@ -444,7 +415,7 @@ Estimate external_estimate(const EstimatorInput& input, const ExternalParams& p)
                   " scores per input point");
     return e;
   };
-  const TempDir dir;
+  const TempFolder dir("grapebench-ext");
   const nlohmann::ordered_json req = write_request(dir.path, input, p);
   if (p.persistent) {
     if (!p.programs) throw std::logic_error("external estimator: persistent mode without its programs");

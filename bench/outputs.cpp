@@ -112,10 +112,11 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
   }
   if (!classes.empty()) {
     j["classification"] = classes;
+    const std::vector<std::string> labels = condition_labels(set);
     nlohmann::ordered_json rec = nlohmann::ordered_json::array();
     for (const auto& c : cases) {
       if (c.disparity_error_px >= 0)
-        rec.push_back({{"condition", condition_labels(set)[static_cast<std::size_t>(c.condition)]}, {"bunch", c.bunch},
+        rec.push_back({{"condition", labels[static_cast<std::size_t>(c.condition)]}, {"bunch", c.bunch},
                        {"points", c.points}, {"disparity_error_px", jnum(c.disparity_error_px)},
                        {"disparity_outliers", jnum(c.disparity_outliers)}});
     }
@@ -123,7 +124,7 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
     nlohmann::ordered_json conf = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < set.conditions.size(); ++k) {
       for (const PooledConfusion& p : pooled_confusion(cases, static_cast<int>(k))) {
-        conf.push_back({{"condition", condition_labels(set)[k]}, {"estimator", p.estimator}, {"classes", p.classes},
+        conf.push_back({{"condition", labels[k]}, {"estimator", p.estimator}, {"classes", p.classes},
                         {"counts", p.counts}, {"pooled_accuracy", jnum(p.accuracy)}, {"pooled_miou", jnum(p.miou)}});
       }
     }
