@@ -83,7 +83,7 @@ struct InputFrame {
   std::string roi;                        // auto_r | auto_cm | manual_r | manual_cm
   int region = -1;                        // the region's index in the frame
   int width = 0, height = 0;              // pixels
-  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels (rays through pixel centres u + 0.5)
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels, OpenCV convention (pixel (u, v) centred at (u, v))
 };
 
 // What a protocol hands an estimator: the cloud and, where the protocol knows them,

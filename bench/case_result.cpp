@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bench/build_info.h"
 #include "bench/heap_meter.h"
 #include "synth/io.h"
 
@@ -12,7 +13,7 @@ namespace grapebench {
 namespace {
 
 // Bump when the meaning of a case file changes, so old results are recomputed.
-constexpr const char* kCaseFormat = "grapebench-case-5";
+constexpr const char* kCaseFormat = "grapebench-case-6";
 
 std::uint64_t fnv1a(const std::string& s) {
   std::uint64_t h = 1469598103934665603ull;
@@ -74,6 +75,7 @@ CaseResult new_case(const Condition& condition, int condition_index, const Bunch
   r.preset = job.preset;
   r.seed = job.seed;
   r.key = case_key(condition, job);
+  r.build = build_identity();
   return r;
 }
 
@@ -145,6 +147,7 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   nlohmann::ordered_json j;
   j["format"] = kCaseFormat;
   j["key"] = c.key;
+  j["build"] = c.build;
   j["condition"] = c.condition;
   j["bunch"] = c.bunch;
   j["preset"] = c.preset;
@@ -206,6 +209,7 @@ CaseResult case_from_json(const nlohmann::json& j) {
   if (j.value("format", "") != kCaseFormat) throw std::runtime_error("case file of another format");
   CaseResult c;
   c.key = j.at("key").get<std::string>();
+  c.build = j.at("build").get<std::string>();
   c.condition = j.at("condition").get<int>();
   c.bunch = j.at("bunch").get<int>();
   c.preset = j.at("preset").get<std::string>();

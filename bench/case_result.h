@@ -57,6 +57,7 @@ struct CaseResult {
   std::string preset;
   std::uint64_t seed = 0;
   std::string key;  // hash of everything the case depends on (resume check)
+  std::string build;  // build_identity() of the binary that computed it (resume check)
   bool ok = false;  // false: the scan or registration failed (error says why)
   std::string error;
   std::size_t points = 0;  // bunch points after segmentation and registration

@@ -1,5 +1,6 @@
 // grapebench: the command-line program.
 #include "bench/bench_compare.h"
+#include "bench/build_info.h"
 #include "bench/check.h"
 #include "bench/runner.h"
 #include "bench/scan_run.h"
@@ -132,7 +133,13 @@ struct Command {
   std::function<int()> action;
 };
 
-Command synth_subcommand(CLI::App& app) {
+// -q / -v, given before or after the subcommand (they fall through to the main app).
+struct Global {
+  bool quiet = false, verbose = false;
+  Verbosity verbosity() const { return quiet ? Verbosity::quiet : verbose ? Verbosity::verbose : Verbosity::normal; }
+};
+
+Command synth_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   struct Options {
     std::string scene_path, preset_name = "table-red", out_dir = "results/synth";
     int count = 1;
@@ -158,8 +165,9 @@ Command synth_subcommand(CLI::App& app) {
   synth->add_option("--threads", o->opt.threads, "Worker threads (0 = all cores); outputs do not depend on it")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   synth->footer(parameter_help());
-  return {synth, [o] {
+  return {synth, [o, g] {
             o->opt.out = o->out_dir;
+            o->opt.verbosity = g->verbosity();
             return synth_command(o->scene_path, o->preset_name, o->count, o->seed, o->sets, o->opt);
           }};
 }
@@ -178,6 +186,7 @@ void parse_shard(const std::string& shard, RunOptions& o) {
 }
 
 int run_command(std::vector<std::string> scenes, const std::string& out, const std::string& shard, RunOptions run_opt) {
+  const bool quiet = run_opt.verbosity == Verbosity::quiet;
   if (scenes.empty()) scenes = {"scenes/default.yaml"};
   parse_shard(shard, run_opt);
   // Every scene is read (and every error reported) before any work starts.
@@ -186,16 +195,23 @@ int run_command(std::vector<std::string> scenes, const std::string& out, const s
   for (const auto& set : scene_sets) {
     RunOptions o = run_opt;
     o.out = std::filesystem::path(out) / set.base.name;
-    std::printf("== %s (%s): %zu condition(s) x %zu bunches\n", set.base.name.c_str(), set.base.path.c_str(),
-                set.conditions.size(), bunch_jobs(set.base).size());
-    std::fflush(stdout);
+    if (!quiet) {
+      std::printf("== %s (%s): %zu condition(s) x %zu bunches\n", set.base.name.c_str(), set.base.path.c_str(),
+                  set.conditions.size(), bunch_jobs(set.base).size());
+      std::fflush(stdout);
+    }
     const auto t0 = std::chrono::steady_clock::now();
     const RunOutcome r = run_scene_set(set, o);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("%d cases: %d computed, %d reused from %s/cases (%.1f s)\n", r.cases, r.computed, r.reused,
                 o.out.string().c_str(), wall);
+    if (r.other_build > 0) {
+      std::printf("%d finished case(s) there were computed by another build (not this binary, %s): %s\n",
+                  r.other_build, build_identity().c_str(),
+                  o.reuse_other_builds ? "reused, as --reuse-other-builds asks" : "recomputed (--reuse-other-builds reuses them)");
+    }
     if (r.complete) {
-      std::cout << r.leaderboard;
+      if (!quiet) std::cout << r.leaderboard;
       std::printf("results: %s/{results.csv,summary.json,report.html}\n", o.out.string().c_str());
     } else {
       std::printf("shard %d/%d done; join the shards with `grapebench merge %s --from <dirs> --out <dir>`\n",
@@ -205,7 +221,7 @@ int run_command(std::vector<std::string> scenes, const std::string& out, const s
   return 0;
 }
 
-Command run_subcommand(CLI::App& app) {
+Command run_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   struct Options {
     std::vector<std::string> scenes;
     std::string out = "results/runs", shard;
@@ -220,25 +236,33 @@ Command run_subcommand(CLI::App& app) {
       ->check(CLI::Range(0, 1024))->capture_default_str();
   run->add_option("--shard", o->shard, "Run only slice i of N (i/N, 0-based); join with `grapebench merge`");
   run->add_flag("--no-resume", [o](std::int64_t) { o->run.resume = false; }, "Recompute finished cases too");
-  run->add_flag("--quiet", o->run.quiet, "No progress output");
+  run->add_flag("--reuse-other-builds", o->run.reuse_other_builds,
+                "Also reuse finished cases that another build of grapebench computed (by default they are recomputed)");
   run->footer(run_help());
-  return {run, [o] { return run_command(o->scenes, o->out, o->shard, o->run); }};
+  return {run, [o, g] {
+            o->run.verbosity = g->verbosity();
+            return run_command(o->scenes, o->out, o->shard, o->run);
+          }};
 }
 
 Command merge_subcommand(CLI::App& app) {
   struct Options {
     std::string scene, out;
     std::vector<std::string> from;
+    bool reuse_other_builds = false;
   };
   auto o = std::make_shared<Options>();
   auto* merge = app.add_subcommand("merge", "Join the case files of `run --shard` folders and write the tables and report");
   merge->add_option("scene", o->scene, "The scene file the shards ran")->required()->check(CLI::ExistingFile);
   merge->add_option("--from", o->from, "Shard output folders (the scene's folder in each)")->required();
   merge->add_option("--out", o->out, "Merged output folder")->required();
+  merge->add_flag("--reuse-other-builds", o->reuse_other_builds,
+                  "Accept cases that another build of grapebench computed");
   return {merge, [o] {
             const SceneSet set = load_scene_set(o->scene);
             RunOptions ro;
             ro.out = o->out;
+            ro.reuse_other_builds = o->reuse_other_builds;
             const std::vector<std::filesystem::path> dirs(o->from.begin(), o->from.end());
             const RunOutcome r = merge_shards(set, dirs, ro);
             std::cout << r.leaderboard;
@@ -298,7 +322,7 @@ Command compare_bench_subcommand(CLI::App& app) {
           }};
 }
 
-Command scan_subcommand(CLI::App& app) {
+Command scan_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   struct Options {
     std::string scene, out = "results/scans";
     ScanRunOptions scan;
@@ -311,8 +335,10 @@ Command scan_subcommand(CLI::App& app) {
   scan->add_option("--threads", o->scan.threads, "Worker threads (0 = all cores); outputs do not depend on it")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   scan->add_option("--bunch", o->scan.only_bunch, "Scan only this bunch index")->check(CLI::Range(0, 100000));
+  scan->add_flag("--merged", o->scan.merged, "Also write <stem>_merged.ply: every view's points in the world frame");
   scan->footer(sensor_help());
-  return {scan, [o] {
+  return {scan, [o, g] {
+            o->scan.verbosity = g->verbosity();
             const Scene scene = load_scene(o->scene);
             o->scan.out = std::filesystem::path(o->out) / scene.name;
             const auto rows = run_scans(scene, o->scan);
@@ -327,8 +353,14 @@ Command scan_subcommand(CLI::App& app) {
 int main(int argc, char** argv) {
   CLI::App app{"grapebench: benchmark harness for grape-bunch geometry estimators"};
   app.require_subcommand(1);
-  const std::vector<Command> commands = {synth_subcommand(app),  run_subcommand(app),           merge_subcommand(app),
-                                         check_subcommand(app), compare_bench_subcommand(app), scan_subcommand(app)};
+  app.set_version_flag("--version", "grapebench " + version_string() + ", build " + build_identity());
+  auto g = std::make_shared<Global>();
+  app.fallthrough();  // -q and -v work after the subcommand too
+  app.add_flag("-q,--quiet", g->quiet, "Errors and results only: no progress");
+  app.add_flag("-v,--verbose", g->verbose, "A progress line per item, also on a terminal");
+  const std::vector<Command> commands = {synth_subcommand(app, g), run_subcommand(app, g),
+                                         merge_subcommand(app),    check_subcommand(app),
+                                         compare_bench_subcommand(app), scan_subcommand(app, g)};
   if (argc > 1 && argv[1][0] != '-') {
     std::string known;
     bool found = false;

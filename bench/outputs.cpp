@@ -1,5 +1,6 @@
 #include "bench/outputs.h"
 
+#include "bench/build_info.h"
 #include "bench/case_scores.h"
 #include "bench/classification_tables.h"
 #include "bench/report.h"
@@ -8,9 +9,9 @@
 
 #include <tbb/info.h>
 
-#include <unistd.h>
 
 #include <cmath>
+#include <map>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -187,18 +188,7 @@ nlohmann::ordered_json timings_json(const SceneSet& set, const std::vector<Score
   return rows;
 }
 
-std::string git_commit() {
-  FILE* p = popen("git rev-parse --short HEAD 2>/dev/null", "r");
-  if (!p) return "unknown";
-  char buf[64] = {};
-  const bool got = std::fgets(buf, sizeof buf, p) != nullptr;
-  pclose(p);
-  std::string s = got ? buf : "unknown";
-  while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
-  return s.empty() ? "unknown" : s;
-}
-
-nlohmann::ordered_json manifest_json(const SceneSet& set, int threads) {
+nlohmann::ordered_json manifest_json(const SceneSet& set, const std::vector<CaseResult>& cases, int threads) {
   nlohmann::ordered_json j;
   j["scene_file"] = set.base.path;
   std::ifstream in(set.base.path, std::ios::binary);
@@ -217,10 +207,12 @@ nlohmann::ordered_json manifest_json(const SceneSet& set, int threads) {
     conds.push_back(cj);
   }
   j["conditions"] = conds;
-  j["git_commit"] = git_commit();
-  char host[256] = {};
-  gethostname(host, sizeof host - 1);
-  j["machine"] = {{"host", host}, {"cores", tbb::info::default_concurrency()}};
+  j["build"] = build_info_json();
+  // Which builds computed the cases (more than one only with --reuse-other-builds).
+  std::map<std::string, int> builds;
+  for (const auto& c : cases) ++builds[c.build];
+  j["case_builds"] = builds;
+  j["machine"] = machine_json();
   j["threads"] = threads;
   return j;
 }
@@ -277,7 +269,7 @@ std::string write_outputs(const SceneSet& set, const std::vector<CaseResult>& ca
   write_file_atomic(out / "timings.csv", timings_csv(set, cases));
   write_file_atomic(out / "summary.json", summary_json(set, cases, scores).dump(1) + "\n");
   write_file_atomic(out / "timings.json", timings_json(set, scores).dump(1) + "\n");
-  write_file_atomic(out / "manifest.json", manifest_json(set, threads).dump(1) + "\n");
+  write_file_atomic(out / "manifest.json", manifest_json(set, cases, threads).dump(1) + "\n");
   const auto size_cells = size_error_cells(set, cases);
   if (!size_cells.empty()) {
     write_file_atomic(out / "size_error.csv", size_error_csv(set, size_cells));

@@ -1,6 +1,8 @@
 #include "bench/runner.h"
 
+#include "bench/build_info.h"
 #include "bench/outputs.h"
+#include "bench/progress.h"
 #include "synth/io.h"
 
 #include <tbb/global_control.h>
@@ -43,49 +45,24 @@ std::vector<CaseRef> all_cases(const SceneSet& set, const fs::path& out) {
   return refs;
 }
 
-// A finished case file with the expected key, or nothing.
-std::optional<CaseResult> read_case(const fs::path& file, const std::string& key) {
+// A finished case file with the expected key, computed by this build unless
+// `any_build`; `other_build` counts the files that match but another build computed.
+std::optional<CaseResult> read_case(const fs::path& file, const std::string& key, bool any_build, int* other_build) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
   try {
     const auto j = nlohmann::json::parse(in);
     CaseResult c = case_from_json(j);
     if (c.key != key) return std::nullopt;
+    if (c.build != build_identity()) {
+      if (other_build) ++*other_build;
+      if (!any_build) return std::nullopt;
+    }
     return c;
   } catch (const std::exception&) {
     return std::nullopt;  // unreadable (foreign or damaged): recompute
   }
 }
-
-class Progress {
- public:
-  Progress(int total, bool enabled) : total_(total), enabled_(enabled), tty_(isatty(fileno(stderr)) != 0) {
-    t0_ = std::chrono::steady_clock::now();
-  }
-  void done(const CaseResult& c) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++count_;
-    if (!enabled_) return;
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-    const double eta = count_ > 0 ? el / count_ * (total_ - count_) : 0;
-    if (tty_) {
-      const int width = 30, fill = total_ > 0 ? width * count_ / total_ : width;
-      std::fprintf(stderr, "\r  [%s%s] %d/%d  %.0f s elapsed, ETA %.0f s ", std::string(static_cast<std::size_t>(fill), '#').c_str(),
-                   std::string(static_cast<std::size_t>(width - fill), '.').c_str(), count_, total_, el, eta);
-      if (count_ == total_) std::fprintf(stderr, "\n");
-    } else {
-      std::fprintf(stderr, "  case %d/%d (condition %d, bunch %d)%s  %.1f s elapsed, ETA %.0f s\n", count_, total_,
-                   c.condition, c.bunch, c.ok ? "" : " FAILED", el, eta);
-    }
-    std::fflush(stderr);
-  }
-
- private:
-  int total_, count_ = 0;
-  bool enabled_, tty_;
-  std::mutex mutex_;
-  std::chrono::steady_clock::time_point t0_;
-};
 
 }  // namespace
 
@@ -107,27 +84,27 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   std::vector<std::size_t> pending;
   for (std::size_t i = 0; i < refs.size(); ++i) {
     if (static_cast<int>(i % static_cast<std::size_t>(o.shard_count)) != o.shard_index) continue;
-    if (o.resume) results[i] = read_case(refs[i].file, refs[i].key);
+    if (o.resume) results[i] = read_case(refs[i].file, refs[i].key, o.reuse_other_builds, &outcome.other_build);
     if (results[i]) {
       ++outcome.reused;
     } else {
       pending.push_back(i);
     }
   }
-  Progress progress(static_cast<int>(pending.size()), o.progress && !o.quiet);
+  Progress progress("case", static_cast<int>(pending.size()), o.verbosity);
   tbb::parallel_for(std::size_t{0}, pending.size(), std::size_t{1}, [&](std::size_t p) {
     const CaseRef& ref = refs[pending[p]];
     CaseResult r = run_case(set.conditions[static_cast<std::size_t>(ref.condition)], ref.condition, ref.job);
     // Written atomically as soon as it is done: an interrupted run resumes from here.
     write_file_atomic(ref.file, case_to_json(r).dump(1) + "\n");
-    progress.done(r);
+    progress.done("condition " + std::to_string(r.condition) + ", bunch " + std::to_string(r.bunch), !r.ok);
     results[pending[p]] = std::move(r);
   });
   outcome.computed = static_cast<int>(pending.size());
   // Other shards' cases may already be here (a shared folder); the tables need all.
   std::vector<CaseResult> cases;
   for (std::size_t i = 0; i < refs.size(); ++i) {
-    if (!results[i]) results[i] = read_case(refs[i].file, refs[i].key);
+    if (!results[i]) results[i] = read_case(refs[i].file, refs[i].key, o.reuse_other_builds, nullptr);
     if (!results[i]) return outcome;
     cases.push_back(*results[i]);
   }
@@ -145,10 +122,10 @@ RunOutcome merge_shards(const SceneSet& set, const std::vector<fs::path>& shard_
   std::string missing;
   int n_missing = 0;
   for (const auto& ref : refs) {
-    std::optional<CaseResult> found = read_case(ref.file, ref.key);
+    std::optional<CaseResult> found = read_case(ref.file, ref.key, o.reuse_other_builds, nullptr);
     for (const auto& d : shard_dirs) {
       if (found) break;
-      found = read_case(d / "cases" / ref.file.filename(), ref.key);
+      found = read_case(d / "cases" / ref.file.filename(), ref.key, o.reuse_other_builds, &outcome.other_build);
       if (found) write_file_atomic(ref.file, case_to_json(*found).dump(1) + "\n");
     }
     if (!found) {
@@ -160,7 +137,8 @@ RunOutcome merge_shards(const SceneSet& set, const std::vector<fs::path>& shard_
   }
   if (n_missing > 0) {
     throw InputError("merge: " + std::to_string(n_missing) + " of " + std::to_string(refs.size()) +
-                     " cases are in none of the shard folders (or were run with other parameters):" + missing +
+                     " cases are in none of the shard folders (or were run with other parameters, or by another build:"
+                     " --reuse-other-builds takes those):" + missing +
                      (n_missing > 5 ? " ..." : ""));
   }
   outcome.leaderboard = write_outputs(set, cases, o.out, o.threads);

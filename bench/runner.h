@@ -3,6 +3,7 @@
 #pragma once
 
 #include "bench/case_run.h"
+#include "bench/progress.h"
 #include "bench/scene.h"
 
 #include <filesystem>
@@ -16,14 +17,15 @@ struct RunOptions {
   int threads = 0;            // 0: all cores; results do not depend on it
   int shard_index = 0, shard_count = 1;  // run the cases with flat index % count == index
   bool resume = true;         // reuse case files whose key matches
-  bool progress = true;       // a bar on a terminal, log lines otherwise
-  bool quiet = false;         // no progress at all
+  bool reuse_other_builds = false;  // also reuse cases another build (build_identity()) computed
+  Verbosity verbosity = Verbosity::normal;  // progress: a bar on a terminal, log lines otherwise
 };
 
 struct RunOutcome {
   int cases = 0;      // in the whole scene set
   int computed = 0;   // run now
   int reused = 0;     // found finished in cases/
+  int other_build = 0;  // finished cases of another build: recomputed, or reused with reuse_other_builds
   bool complete = false;  // every case present: the tables and report were written
   std::string leaderboard;
 };

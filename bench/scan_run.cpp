@@ -22,9 +22,16 @@ std::vector<ScanSummary> run_scans(const Scene& scene, const ScanRunOptions& o) 
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(tbb::info::default_concurrency());
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   std::vector<ScanSummary> rows;
-  const auto jobs = bunch_jobs(scene);
+  std::vector<BunchJob> jobs;
+  for (const auto& job : bunch_jobs(scene)) {
+    if (o.only_bunch < 0 || job.index == o.only_bunch) jobs.push_back(job);
+  }
+  if (jobs.empty()) {
+    throw InputError(scene.path + ": --bunch " + std::to_string(o.only_bunch) + " is not in the scene (bunches 0.." +
+                     std::to_string(bunch_jobs(scene).size() - 1) + ")");
+  }
+  Progress progress("bunch", static_cast<int>(jobs.size()), o.verbosity);
   for (const auto& job : jobs) {
-    if (o.only_bunch >= 0 && job.index != o.only_bunch) continue;
     GenerationReport report;
     const Bunch bunch = generate_bunch(job.params, job.seed, &report);
     char stem[32];
@@ -37,7 +44,7 @@ std::vector<ScanSummary> run_scans(const Scene& scene, const ScanRunOptions& o) 
     const RayScene rays = scene_rays(scene, bunch, job.seed);
     // The scan draws from its own stream, independent of the generator's.
     const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
-    write_scan(scan, dir, stem);
+    write_scan(scan, dir, stem, o.merged);
     ScanSummary s;
     s.bunch = job.index;
     s.views = static_cast<int>(scan.views.size());
@@ -47,6 +54,7 @@ std::vector<ScanSummary> run_scans(const Scene& scene, const ScanRunOptions& o) 
       s.seconds += v.seconds;
     }
     rows.push_back(s);
+    progress.done("bunch " + std::to_string(job.index) + ", " + std::to_string(s.views) + " views");
   }
   return rows;
 }

@@ -1,6 +1,7 @@
 // Scanning the bunches of a scene with its sensor and rig.
 #pragma once
 
+#include "bench/progress.h"
 #include "bench/scene.h"
 #include "sensors/scan.h"
 
@@ -13,6 +14,8 @@ struct ScanRunOptions {
   std::filesystem::path out;  // one folder per bunch: bunch_NNNN/
   int threads = 0;            // 0: all cores
   int only_bunch = -1;        // scan one bunch of the scene
+  bool merged = false;        // also write every view's points in the world frame
+  Verbosity verbosity = Verbosity::normal;
 };
 
 struct ScanSummary {

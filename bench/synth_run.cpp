@@ -17,6 +17,7 @@ std::vector<SynthResult> run_synth(const std::vector<BunchJob>& jobs, const Synt
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   std::vector<SynthResult> results(jobs.size());
   std::vector<std::string> errors(jobs.size());
+  Progress progress("bunch", static_cast<int>(jobs.size()), o.verbosity);
   tbb::parallel_for(std::size_t{0}, jobs.size(), [&](std::size_t i) {
     try {
       const auto t0 = std::chrono::steady_clock::now();
@@ -25,7 +26,10 @@ std::vector<SynthResult> run_synth(const std::vector<BunchJob>& jobs, const Synt
       const Bunch bunch = generate_bunch(jobs[i].params, jobs[i].seed, &r.report);
       r.truth = compute_ground_truth(bunch, jobs[i].params.density);
       r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (o.out.empty()) return;
+      if (o.out.empty()) {
+        progress.done("bunch " + std::to_string(jobs[i].index));
+        return;
+      }
       char stem[32];
       std::snprintf(stem, sizeof stem, "bunch_%04d", jobs[i].index);
       const BunchRecord rec{jobs[i].preset, jobs[i].seed, jobs[i].index, jobs[i].params, r.report};
@@ -36,6 +40,7 @@ std::vector<SynthResult> run_synth(const std::vector<BunchJob>& jobs, const Synt
         write_file_atomic(o.out / (std::string(stem) + ".ply"), ply_bytes(mesh));
         write_file_atomic(o.out / (std::string(stem) + ".obj"), obj_text(mesh, "parts.mtl"));
       }
+      progress.done("bunch " + std::to_string(jobs[i].index));
     } catch (const std::exception& e) {
       errors[i] = "bunch " + std::to_string(jobs[i].index) + " (" + jobs[i].preset + ", seed " +
                   std::to_string(jobs[i].seed) + "): " + e.what();

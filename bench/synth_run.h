@@ -1,6 +1,7 @@
 // Generating the bunches of a scene: ground truth, meshes, summaries.
 #pragma once
 
+#include "bench/progress.h"
 #include "bench/scene.h"
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
@@ -17,6 +18,7 @@ struct SynthOptions {
   bool write_mesh = true;
   MeshOptions mesh;
   int threads = 0;  // 0: all cores
+  Verbosity verbosity = Verbosity::normal;
 };
 
 struct SynthResult {

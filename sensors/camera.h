@@ -13,7 +13,11 @@ namespace grapebench {
 struct Intrinsics {
   int width = 0, height = 0;  // pixels
   double fx = 0, fy = 0;      // pixels
-  double cx = 0, cy = 0;      // pixels
+  double cx = 0, cy = 0;      // pixels, this file's convention: pixel (u, v) spans [u, u + 1)
+  // OpenCV's and Open3D's principal point (the centre of pixel (u, v) is at (u, v)):
+  // what every exported file and every estimator input carries.
+  double opencv_cx() const { return cx - 0.5; }
+  double opencv_cy() const { return cy - 0.5; }
 };
 
 // Square pixels, principal point at the centre, from the horizontal field of view.

@@ -56,12 +56,16 @@ std::string json_matrix(const Eigen::Isometry3d& T) {
 
 }  // namespace
 
-std::string pcd_bytes(const OrganisedCloud& c) {
+std::string pcd_bytes(const OrganisedCloud& c, const Eigen::Isometry3d& camera_to_world) {
+  const Eigen::Quaterniond q(camera_to_world.linear());
+  const Vec3 t = camera_to_world.translation();
   std::ostringstream h;
+  h.precision(9);
   h << "# .PCD v0.7 - grapebench organised scan view, sensor frame (x right, y down, z forward), metres\n"
     << "VERSION 0.7\nFIELDS x y z rgb normal_x normal_y normal_z label berry\n"
     << "SIZE 4 4 4 4 4 4 4 4 4\nTYPE F F F U F F F U I\nCOUNT 1 1 1 1 1 1 1 1 1\n"
-    << "WIDTH " << c.width << "\nHEIGHT " << c.height << "\nVIEWPOINT 0 0 0 1 0 0 0\n"
+    << "WIDTH " << c.width << "\nHEIGHT " << c.height << "\nVIEWPOINT " << t.x() << " " << t.y() << " " << t.z()
+    << " " << q.w() << " " << q.x() << " " << q.y() << " " << q.z() << "\n"
     << "POINTS " << c.size() << "\nDATA binary\n";
   std::string s = h.str();
   s.reserve(s.size() + c.size() * 36);
@@ -130,7 +134,38 @@ std::string label_png_bytes(const OrganisedCloud& c) {
   return png_bytes(c.width, c.height, 8, PNG_COLOR_TYPE_GRAY, px);
 }
 
-void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem) {
+std::string merged_ply_bytes(const Scan& scan) {
+  std::size_t n = 0;
+  for (const auto& v : scan.views) n += v.cloud.valid_count();
+  std::ostringstream h;
+  h << "ply\nformat binary_little_endian 1.0\n"
+    << "comment grapebench scan, all views, world frame (z up, rachis top at the origin), metres; "
+       "label: 0 berry 1 pedicel 2 rachis 3 peduncle 4 background\n"
+    << "element vertex " << n << "\n"
+    << "property float x\nproperty float y\nproperty float z\n"
+    << "property float nx\nproperty float ny\nproperty float nz\n"
+    << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+    << "property uchar label\nproperty int berry\nproperty ushort view\nend_header\n";
+  std::string s = h.str();
+  for (std::size_t k = 0; k < scan.views.size(); ++k) {
+    const OrganisedCloud& c = scan.views[k].cloud;
+    const Eigen::Isometry3d& T = scan.views[k].rig.pose;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (!c.valid[i]) continue;
+      const Vec3 p = T * c.xyz[i].cast<double>();
+      const Vec3 nrm = T.linear() * c.normal[i].cast<double>();
+      for (int a = 0; a < 3; ++a) put<float>(s, static_cast<float>(p[a]));
+      for (int a = 0; a < 3; ++a) put<float>(s, static_cast<float>(nrm[a]));
+      for (int a = 0; a < 3; ++a) put<std::uint8_t>(s, c.rgb[i][a]);
+      put<std::uint8_t>(s, c.label[i]);
+      put<std::int32_t>(s, c.berry[i]);
+      put<std::uint16_t>(s, static_cast<std::uint16_t>(k));
+    }
+  }
+  return s;
+}
+
+void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem, bool merged) {
   std::filesystem::create_directories(dir);
   nlohmann::ordered_json m;
   m["format"] = "grapebench-scan/1";
@@ -142,7 +177,7 @@ void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::s
   nlohmann::ordered_json views = nlohmann::ordered_json::array();
   for (const auto& v : scan.views) {
     const std::string base = stem + "_" + v.rig.name;
-    write_file_atomic(dir / (base + ".pcd"), pcd_bytes(v.cloud));
+    write_file_atomic(dir / (base + ".pcd"), pcd_bytes(v.cloud, v.rig.pose));
     write_file_atomic(dir / (base + ".ply"), ply_points_bytes(v.cloud));
     write_file_atomic(dir / (base + "_depth.png"), depth_png_bytes(v.cloud));
     write_file_atomic(dir / (base + "_rgb.png"), rgb_png_bytes(v.cloud));
@@ -162,11 +197,21 @@ void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::s
          {"camera_to_world", nlohmann::ordered_json::parse(json_matrix(v.rig.pose))},
          {"turntable_angle_deg", v.rig.turntable_angle_deg},
          {"intrinsics",
-          {{"width", K.width}, {"height", K.height}, {"fx", K.fx}, {"fy", K.fy}, {"cx", K.cx}, {"cy", K.cy}}},
+          {{"width", K.width},
+           {"height", K.height},
+           {"fx", K.fx},
+           {"fy", K.fy},
+           {"cx", K.opencv_cx()},
+           {"cy", K.opencv_cy()},
+           {"convention", "OpenCV: the centre of pixel (u, v) is at (u, v); u = fx x / z + cx"}}},
          {"valid_points", v.cloud.valid_count()},
          {"files", files}});
   }
   m["views"] = views;
+  if (merged) {
+    write_file_atomic(dir / (stem + "_merged.ply"), merged_ply_bytes(scan));
+    m["merged"] = stem + "_merged.ply";
+  }
   write_file_atomic(dir / (stem + "_scan.json"), m.dump(1) + "\n");
 }
 

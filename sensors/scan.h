@@ -28,17 +28,22 @@ Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, con
                 std::uint64_t seed);
 
 // Files of one view: organised binary PCD (x y z rgb normal label berry, NaN where
-// invalid), binary PLY of the valid points, 16-bit depth PNG (mm, 0 = no return) and
-// RGB PNG.
-std::string pcd_bytes(const OrganisedCloud& cloud);
+// invalid; points in the sensor frame, VIEWPOINT the camera-to-world pose, so PCL and
+// CloudCompare place each view in the world), binary PLY of the valid points (sensor
+// frame), 16-bit depth PNG (mm, 0 = no return) and RGB PNG.
+std::string pcd_bytes(const OrganisedCloud& cloud, const Eigen::Isometry3d& camera_to_world = Eigen::Isometry3d::Identity());
 std::string ply_points_bytes(const OrganisedCloud& cloud);
+// Every view's valid points in the world frame, one binary PLY (x y z, normal, colour,
+// label, berry, view index).
+std::string merged_ply_bytes(const Scan& scan);
 std::string depth_png_bytes(const OrganisedCloud& cloud);
 std::string rgb_png_bytes(const OrganisedCloud& cloud);
 std::string label_png_bytes(const OrganisedCloud& cloud);  // 8-bit Part per pixel, 255 = none
 std::string image_png_bytes(int width, int height, const std::vector<std::uint8_t>& rgb);  // W x H x 3
 
 // Writes `<dir>/<stem>_<view>.{pcd,ply}`, `_depth.png`, `_rgb.png`, `_label.png`
-// per view and `<dir>/<stem>_scan.json` (intrinsics, poses, sensor, rig, files).
-void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem);
+// per view and `<dir>/<stem>_scan.json` (intrinsics in OpenCV's convention, poses,
+// sensor, rig, files); with `merged`, also `<dir>/<stem>_merged.ply`.
+void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem, bool merged = false);
 
 }  // namespace grapebench

@@ -172,6 +172,7 @@ std::vector<std::optional<Eigen::Isometry3d>> colmap_poses(const PipelineSpec& p
   std::vector<RgbImage> images;
   for (const ScanView& v : scan.views) images.push_back(view_image(v));
   const Intrinsics& k = scan.views.front().camera.K;
+  // COLMAP centres the top-left pixel at (0.5, 0.5), as this project's cameras do.
   const ColmapPoses c = colmap_sfm(images, k.fx, k.fy, k.cx, k.cy, pl.colmap, seed);
   r.views_registered = c.registered;
   if (c.registered < 3) throw InputError("colmap registered " + std::to_string(c.registered) + " of " +

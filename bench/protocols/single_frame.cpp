@@ -90,7 +90,7 @@ EstimatorInput roi_input(const ScanView& view, int index, const Roi& roi, const 
     in.colours.push_back(view.cloud.rgb[px]);
   }
   const Intrinsics& k = view.camera.K;
-  in.frame = InputFrame{index, roi.kind, roi.index, k.width, k.height, k.fx, k.fy, k.cx, k.cy};
+  in.frame = InputFrame{index, roi.kind, roi.index, k.width, k.height, k.fx, k.fy, k.opencv_cx(), k.opencv_cy()};
   return in;
 }
 

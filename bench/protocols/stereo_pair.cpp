@@ -19,11 +19,11 @@ EstimatorInput stereo_input(const ScanView& view) {
   pair->right = {c.width, c.height, c.right_image};
   const Intrinsics& k = view.camera.K;
   pair->fx = k.fx, pair->fy = k.fy;
-  pair->cx = k.cx - 0.5, pair->cy = k.cy - 0.5;  // rays through u + 0.5 here; OpenCV's pixel centres are integers
+  pair->cx = k.opencv_cx(), pair->cy = k.opencv_cy();
   pair->baseline = c.baseline;
   EstimatorInput in;
   in.stereo = std::move(pair);
-  in.frame = InputFrame{-1, "", -1, k.width, k.height, k.fx, k.fy, k.cx - 0.5, k.cy - 0.5};
+  in.frame = InputFrame{-1, "", -1, k.width, k.height, k.fx, k.fy, k.opencv_cx(), k.opencv_cy()};
   return in;
 }
 
@@ -55,7 +55,7 @@ StereoTruth stereo_truth(const ScanView& view, const Bunch& bunch, double visibl
   for (std::size_t b = 0; b < bunch.berries.size(); ++b) {
     const Vec3 p = view.camera.to_camera(bunch.berries[b].centre);
     if (p.z() <= 0) continue;
-    const Circle circle{k.fx * p.x() / p.z() + k.cx - 0.5, k.fy * p.y() / p.z() + k.cy - 0.5,
+    const Circle circle{k.fx * p.x() / p.z() + k.opencv_cx(), k.fy * p.y() / p.z() + k.opencv_cy(),
                         k.fx * bunch.berries[b].radius / p.z()};
     const auto it = seen.find(static_cast<int>(b));
     const int pixels = it == seen.end() ? 0 : it->second;
@@ -118,7 +118,7 @@ std::vector<EstimateRow> cutting_point_rows(const EstimateRow& base, const Estim
   const Vec3 p = it->second;
   const Intrinsics& k = view.camera.K;
   // The detected pixel, back from the 3D point (the estimator answers in 3D).
-  const double x = k.fx * p.x() / p.z() + k.cx - 0.5, y = k.fy * p.y() / p.z() + k.cy - 0.5;
+  const double x = k.fx * p.x() / p.z() + k.opencv_cx(), y = k.fy * p.y() / p.z() + k.opencv_cy();
   std::vector<EstimateRow> rows{row_of(base, "cut_success", near_stalk(truth, x, y, tolerance) ? 1 : 0, 1, true)};
   const int u = static_cast<int>(std::lround(x)), v = static_cast<int>(std::lround(y));
   const bool inside = u >= 0 && v >= 0 && u < truth.width && v < truth.height;

@@ -113,6 +113,65 @@ TEST(Cli, AKilledRunResumesToTheResultsOfAnUninterruptedOne) {
   EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/summary.json"), slurp("/tmp/grapebench_cli_whole/default/summary.json"));
 }
 
+// A case computed by another build is recomputed, not reused, unless the user asks;
+// the "other build" is this binary with a byte appended (nothing rebuilt).
+TEST(Cli, CasesOfAnotherBuildAreRecomputedUnlessReuseIsAsked) {
+  const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
+  const std::string out = "/tmp/grapebench_cli_build_id", other = "/tmp/grapebench_cli_other_build";
+  std::filesystem::remove_all(out);
+  std::filesystem::copy_file(GRAPEBENCH_EXE, other, std::filesystem::copy_options::overwrite_existing);
+  std::ofstream(other, std::ios::app | std::ios::binary) << '\n';
+  const CommandResult first = run_cli("run " + scene + " --out " + out + " --quiet");
+  ASSERT_EQ(first.status, 0) << first.out;
+  EXPECT_NE(first.out.find("2 cases: 2 computed, 0 reused"), std::string::npos) << first.out;
+  const CommandResult same = run_cli("run " + scene + " --out " + out + " --quiet");
+  EXPECT_NE(same.out.find("2 cases: 0 computed, 2 reused"), std::string::npos) << same.out;
+  const auto run_other = [&](const std::string& flags) {
+    const std::string cmd = other + " run " + scene + " --out " + out + " --quiet" + flags + " 2>&1";
+    std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
+    std::string text;
+    std::array<char, 4096> buf;
+    while (std::fgets(buf.data(), buf.size(), pipe.get())) text += buf.data();
+    return text;
+  };
+  const std::string reused = run_other(" --reuse-other-builds");
+  EXPECT_NE(reused.find("2 cases: 0 computed, 2 reused"), std::string::npos) << reused;
+  EXPECT_NE(reused.find("computed by another build"), std::string::npos) << reused;
+  const std::string recomputed = run_other("");
+  EXPECT_NE(recomputed.find("2 cases: 2 computed, 0 reused"), std::string::npos) << recomputed;
+  // Now the original binary is the other build.
+  const CommandResult back = run_cli("run " + scene + " --out " + out + " --quiet");
+  EXPECT_NE(back.out.find("2 cases: 2 computed, 0 reused"), std::string::npos) << back.out;
+  std::ifstream manifest(out + "/two_bunches_hull/manifest.json");
+  std::stringstream text;
+  text << manifest.rdbuf();
+  for (const char* key : {"\"build_identity\"", "\"git_describe\"", "\"compiler\"", "\"pcl\"", "\"embree\"", "\"cpu\""}) {
+    EXPECT_NE(text.str().find(key), std::string::npos) << key;
+  }
+}
+
+TEST(Cli, VersionQuietAndVerboseWorkEverywhere) {
+  const CommandResult v = run_cli("--version");
+  EXPECT_EQ(v.status, 0);
+  EXPECT_NE(v.out.find("grapebench 0."), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("build "), std::string::npos) << v.out;
+  const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
+  // -q before or after the subcommand: no progress lines.
+  for (const std::string& args : {"-q scan " + scene, "scan " + scene + " -q"}) {
+    const CommandResult r = run_cli(args + " --out /tmp/grapebench_cli_quiet");
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(r.out.find("ETA"), std::string::npos) << r.out;
+  }
+  const CommandResult verbose = run_cli("scan " + scene + " -v --out /tmp/grapebench_cli_quiet");
+  EXPECT_NE(verbose.out.find("bunch 2/2"), std::string::npos) << verbose.out;
+  const CommandResult synth = run_cli("synth --count 2 --no-mesh -v --out /tmp/grapebench_cli_quiet");
+  EXPECT_NE(synth.out.find("ETA"), std::string::npos) << synth.out;
+  // A bunch the scene does not have is an input error, not an empty success.
+  const CommandResult missing = run_cli("scan " + scene + " --bunch 5 --out /tmp/grapebench_cli_quiet");
+  EXPECT_EQ(missing.status, 2) << missing.out;
+  EXPECT_NE(missing.out.find("--bunch 5"), std::string::npos) << missing.out;
+}
+
 TEST(Cli, CheckExitsOneOnARegressionAndZeroOtherwise) {
   const CommandResult run = run_cli("run " GRAPEBENCH_SOURCE_DIR "/scenes/default.yaml --out /tmp/grapebench_cli_run --quiet");
   ASSERT_EQ(run.status, 0) << run.out;

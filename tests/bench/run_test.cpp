@@ -62,7 +62,7 @@ RunOptions quiet(const fs::path& out, int threads = 1) {
   RunOptions o;
   o.out = out;
   o.threads = threads;
-  o.quiet = true;
+  o.verbosity = Verbosity::quiet;
   return o;
 }
 
