@@ -81,15 +81,16 @@ CaseResult new_case(const Condition& condition, int condition_index, const Bunch
 
 TimedEstimate run_estimator(const EstimatorSpec& spec, const EstimatorInput& input) {
   TimedEstimate t;
-  const HeapMeter meter;
   const auto t0 = std::chrono::steady_clock::now();
-  try {
-    t.estimate = spec.run(input);
-  } catch (const std::exception& e) {
-    t.error = e.what();
-  }
+  const std::int64_t peak = peak_heap_bytes([&] {
+    try {
+      t.estimate = spec.run(input);
+    } catch (const std::exception& e) {
+      t.error = e.what();
+    }
+  });
   t.seconds = seconds_since(t0);
-  if (heap_meter_available()) t.peak_heap_mb = static_cast<double>(meter.peak_bytes()) / 1e6;
+  if (peak >= 0) t.peak_heap_mb = static_cast<double>(peak) / 1e6;
   return t;
 }
 

@@ -24,7 +24,7 @@ struct EstimateRow {
   std::string error;
   std::string notes;         // the estimator's diagnostics (points used, iterations, residuals)
   double seconds = 0;        // wall time of the estimator (not deterministic)
-  double peak_heap_mb = -1;  // most heap (operator new) it held above its start, MB; -1: not measured
+  double peak_heap_mb = -1;  // most heap (every malloc-family call, bench/heap_meter.h) it held above its start, MB; -1: not measured
   // Single-frame pipelines (seed 003): the view, the ROI kind (auto_r, auto_cm,
   // manual_r, manual_cm) and the region's index in that frame; stereo_pair (seed 001):
   // the view and its station's name ("station_0800mm"); -1 / "" otherwise.

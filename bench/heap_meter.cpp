@@ -1,16 +1,50 @@
 #include "bench/heap_meter.h"
 
 #include <malloc.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_scheduler_observer.h>
 
+#include <atomic>
+#include <cerrno>
 #include <cstdlib>
-#include <new>
 
 namespace grapebench {
-namespace heap_detail {
-// Bytes this thread allocated minus bytes it freed, and the high-water mark.
-thread_local std::int64_t current = 0;
-thread_local std::int64_t peak = 0;
-}  // namespace heap_detail
+namespace {
+
+// Live bytes of one metered run and their high-water mark, shared by its threads.
+struct HeapCounter {
+  std::atomic<std::int64_t> live{0}, peak{0};
+  void add(std::int64_t n) {
+    const std::int64_t now = live.fetch_add(n, std::memory_order_relaxed) + n;
+    std::int64_t p = peak.load(std::memory_order_relaxed);
+    while (now > p && !peak.compare_exchange_weak(p, now, std::memory_order_relaxed)) {
+    }
+  }
+};
+
+// The counter of the run this thread works for; null outside metered runs.
+thread_local HeapCounter* tls_counter = nullptr;
+
+// Points every worker that joins the run's arena at the run's counter while it is there.
+class ArenaCounterObserver : public tbb::task_scheduler_observer {
+ public:
+  ArenaCounterObserver(tbb::task_arena& arena, HeapCounter* counter)
+      : tbb::task_scheduler_observer(arena), counter_(counter) {
+    observe(true);
+  }
+  ~ArenaCounterObserver() override { observe(false); }
+  void on_scheduler_entry(bool is_worker) override {
+    if (is_worker) tls_counter = counter_;
+  }
+  void on_scheduler_exit(bool is_worker) override {
+    if (is_worker) tls_counter = nullptr;
+  }
+
+ private:
+  HeapCounter* counter_;
+};
+
+}  // namespace
 
 #ifdef GRAPEBENCH_HEAP_METER
 bool heap_meter_available() { return true; }
@@ -18,49 +52,71 @@ bool heap_meter_available() { return true; }
 bool heap_meter_available() { return false; }
 #endif
 
-HeapMeter::HeapMeter() : base_(heap_detail::current) { heap_detail::peak = heap_detail::current; }
-
-std::int64_t HeapMeter::peak_bytes() const { return heap_detail::peak - base_; }
+std::int64_t peak_heap_bytes(const std::function<void()>& work) {
+  HeapCounter counter;
+  tbb::task_arena arena;  // the default concurrency, within the run's global limit
+  arena.initialize();
+  ArenaCounterObserver observer(arena, &counter);
+  HeapCounter* const saved = tls_counter;
+  tls_counter = &counter;
+  try {
+    arena.execute(work);
+  } catch (...) {
+    tls_counter = saved;
+    throw;
+  }
+  tls_counter = saved;
+  return heap_meter_available() ? counter.peak.load() : -1;
+}
 
 }  // namespace grapebench
 
 #ifdef GRAPEBENCH_HEAP_METER
+// glibc's own entry points; the definitions below interpose the public names for the
+// whole process (the executable's symbols come first in the dynamic link).
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+void* __libc_valloc(std::size_t);
+void* __libc_pvalloc(std::size_t);
+void __libc_free(void*);
+}
+
 namespace {
-void* counted_alloc(std::size_t n) {
-  void* p = std::malloc(n == 0 ? 1 : n);
-  if (!p) throw std::bad_alloc();
-  using namespace grapebench::heap_detail;
-  current += static_cast<std::int64_t>(malloc_usable_size(p));
-  if (current > peak) peak = current;
+inline void* counted(void* p) {
+  if (p && grapebench::tls_counter) grapebench::tls_counter->add(static_cast<std::int64_t>(malloc_usable_size(p)));
   return p;
 }
-void counted_free(void* p) noexcept {
-  if (!p) return;
-  grapebench::heap_detail::current -= static_cast<std::int64_t>(malloc_usable_size(p));
-  std::free(p);
+inline void uncount(void* p) {
+  if (p && grapebench::tls_counter) grapebench::tls_counter->add(-static_cast<std::int64_t>(malloc_usable_size(p)));
 }
 }  // namespace
 
-void* operator new(std::size_t n) { return counted_alloc(n); }
-void* operator new[](std::size_t n) { return counted_alloc(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  try {
-    return counted_alloc(n);
-  } catch (...) {
-    return nullptr;
-  }
+extern "C" {
+void* malloc(std::size_t n) { return counted(__libc_malloc(n)); }
+void* calloc(std::size_t n, std::size_t size) { return counted(__libc_calloc(n, size)); }
+void* realloc(void* p, std::size_t n) {
+  uncount(p);
+  void* q = __libc_realloc(p, n);
+  if (!q && n != 0) return counted(p);  // failed: the old block is still held
+  return counted(q);
 }
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  try {
-    return counted_alloc(n);
-  } catch (...) {
-    return nullptr;
-  }
+void* memalign(std::size_t alignment, std::size_t n) { return counted(__libc_memalign(alignment, n)); }
+void* aligned_alloc(std::size_t alignment, std::size_t n) { return counted(__libc_memalign(alignment, n)); }
+int posix_memalign(void** out, std::size_t alignment, std::size_t n) {
+  if (alignment % sizeof(void*) != 0 || (alignment & (alignment - 1)) != 0) return EINVAL;
+  void* p = __libc_memalign(alignment, n);
+  if (!p) return ENOMEM;
+  *out = counted(p);
+  return 0;
 }
-void operator delete(void* p) noexcept { counted_free(p); }
-void operator delete[](void* p) noexcept { counted_free(p); }
-void operator delete(void* p, std::size_t) noexcept { counted_free(p); }
-void operator delete[](void* p, std::size_t) noexcept { counted_free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { counted_free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { counted_free(p); }
+void* valloc(std::size_t n) { return counted(__libc_valloc(n)); }
+void* pvalloc(std::size_t n) { return counted(__libc_pvalloc(n)); }
+void free(void* p) {
+  uncount(p);
+  __libc_free(p);
+}
+}
 #endif

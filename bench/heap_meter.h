@@ -1,25 +1,24 @@
-// Peak heap of a piece of work on the calling thread: the program replaces global
-// operator new/delete with counting wrappers around malloc (heap_meter.cpp).
-// Allocations by malloc directly (some C libraries) are not seen; sanitizer builds
-// keep their own operator new and report no figure.
+// Peak heap of a piece of work, counting every malloc-family allocation (malloc,
+// calloc, realloc, the aligned ones, and operator new, which calls malloc): Eigen's,
+// PCL's, CGAL's, OpenCV's and the estimator's own, on the calling thread and on every
+// TBB worker that helps it. The program interposes glibc's malloc (heap_meter.cpp);
+// the work runs in its own TBB arena, whose observer points each thread that joins it
+// at the run's counter. Not counted: threads the work starts outside TBB (OpenMP,
+// std::thread) and allocations glibc makes internally (strdup). Sanitizer builds keep
+// their own malloc and report no figure.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 
 namespace grapebench {
 
 // False when the counting allocator is not linked in (sanitizer builds).
 bool heap_meter_available();
 
-// Starts a measurement on this thread; peak_bytes() is the most heap this thread held
-// above the level at start() since then.
-class HeapMeter {
- public:
-  HeapMeter();
-  std::int64_t peak_bytes() const;
-
- private:
-  std::int64_t base_;
-};
+// Runs `work` (in its own TBB arena) and returns the most heap bytes it held at once
+// above the level at the start (malloc_usable_size of each block); -1 when the meter
+// is not available. Exceptions from `work` propagate.
+std::int64_t peak_heap_bytes(const std::function<void()>& work);
 
 }  // namespace grapebench

@@ -211,7 +211,7 @@ int run_command(std::vector<std::string> scenes, const std::string& out, const s
                   o.reuse_other_builds ? "reused, as --reuse-other-builds asks" : "recomputed (--reuse-other-builds reuses them)");
     }
     if (r.complete) {
-      if (!quiet) std::cout << r.leaderboard;
+      std::cout << r.leaderboard;
       std::printf("results: %s/{results.csv,summary.json,report.html}\n", o.out.string().c_str());
     } else {
       std::printf("shard %d/%d done; join the shards with `grapebench merge %s --from <dirs> --out <dir>`\n",
