@@ -7,13 +7,19 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
+#include <mutex>
+#include <vector>
 
 namespace grapebench {
 namespace {
 
 // Live bytes of one metered run and their high-water mark, shared by its threads.
+// Counters are pooled and never freed: a TBB worker can linger in a finished run's
+// arena without an exit callback, so a thread's pointer may outlive its run; the
+// generation tells it the counter has moved on to another run.
 struct HeapCounter {
   std::atomic<std::int64_t> live{0}, peak{0};
+  std::atomic<std::uint64_t> generation{0};
   void add(std::int64_t n) {
     const std::int64_t now = live.fetch_add(n, std::memory_order_relaxed) + n;
     std::int64_t p = peak.load(std::memory_order_relaxed);
@@ -22,26 +28,53 @@ struct HeapCounter {
   }
 };
 
-// The counter of the run this thread works for; null outside metered runs.
-thread_local HeapCounter* tls_counter = nullptr;
+// The run this thread works for: its counter and the counter's generation then.
+struct ThreadRun {
+  HeapCounter* counter = nullptr;
+  std::uint64_t generation = 0;
+};
+thread_local ThreadRun tls_run;
+
+HeapCounter* active_counter() {
+  HeapCounter* c = tls_run.counter;
+  return c && c->generation.load(std::memory_order_relaxed) == tls_run.generation ? c : nullptr;
+}
+
+std::mutex pool_mutex;
+std::vector<HeapCounter*> free_counters;  // reachable for ever: no leak, no dangling pointer
+
+HeapCounter* take_counter() {
+  std::lock_guard<std::mutex> lock(pool_mutex);
+  if (free_counters.empty()) return new HeapCounter;
+  HeapCounter* c = free_counters.back();
+  free_counters.pop_back();
+  return c;
+}
+
+void release_counter(HeapCounter* c) {
+  c->generation.fetch_add(1);  // threads still pointing here stop counting
+  c->live = 0;
+  c->peak = 0;
+  std::lock_guard<std::mutex> lock(pool_mutex);
+  free_counters.push_back(c);
+}
 
 // Points every worker that joins the run's arena at the run's counter while it is there.
 class ArenaCounterObserver : public tbb::task_scheduler_observer {
  public:
-  ArenaCounterObserver(tbb::task_arena& arena, HeapCounter* counter)
-      : tbb::task_scheduler_observer(arena), counter_(counter) {
+  ArenaCounterObserver(tbb::task_arena& arena, ThreadRun run) : tbb::task_scheduler_observer(arena), run_(run) {
     observe(true);
   }
   ~ArenaCounterObserver() override { observe(false); }
   void on_scheduler_entry(bool is_worker) override {
-    if (is_worker) tls_counter = counter_;
+    if (is_worker) tls_run = run_;
   }
   void on_scheduler_exit(bool is_worker) override {
-    if (is_worker) tls_counter = nullptr;
+    if (is_worker) tls_run = ThreadRun{};
   }
 
  private:
-  HeapCounter* counter_;
+  ThreadRun run_;
 };
 
 }  // namespace
@@ -53,20 +86,25 @@ bool heap_meter_available() { return false; }
 #endif
 
 std::int64_t peak_heap_bytes(const std::function<void()>& work) {
-  HeapCounter counter;
-  tbb::task_arena arena;  // the default concurrency, within the run's global limit
-  arena.initialize();
-  ArenaCounterObserver observer(arena, &counter);
-  HeapCounter* const saved = tls_counter;
-  tls_counter = &counter;
+  HeapCounter* const counter = take_counter();
+  const ThreadRun run{counter, counter->generation.load()};
+  const ThreadRun saved = tls_run;
+  std::int64_t peak = -1;
   try {
+    tbb::task_arena arena;  // the default concurrency, within the run's global limit
+    arena.initialize();
+    ArenaCounterObserver observer(arena, run);
+    tls_run = run;
     arena.execute(work);
+    peak = counter->peak.load();
   } catch (...) {
-    tls_counter = saved;
+    tls_run = saved;
+    release_counter(counter);
     throw;
   }
-  tls_counter = saved;
-  return heap_meter_available() ? counter.peak.load() : -1;
+  tls_run = saved;
+  release_counter(counter);
+  return heap_meter_available() ? peak : -1;
 }
 
 }  // namespace grapebench
@@ -86,11 +124,13 @@ void __libc_free(void*);
 
 namespace {
 inline void* counted(void* p) {
-  if (p && grapebench::tls_counter) grapebench::tls_counter->add(static_cast<std::int64_t>(malloc_usable_size(p)));
+  if (!p) return p;
+  if (grapebench::HeapCounter* c = grapebench::active_counter()) c->add(static_cast<std::int64_t>(malloc_usable_size(p)));
   return p;
 }
 inline void uncount(void* p) {
-  if (p && grapebench::tls_counter) grapebench::tls_counter->add(-static_cast<std::int64_t>(malloc_usable_size(p)));
+  if (!p) return;
+  if (grapebench::HeapCounter* c = grapebench::active_counter()) c->add(-static_cast<std::int64_t>(malloc_usable_size(p)));
 }
 }  // namespace
 
