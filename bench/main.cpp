@@ -2,15 +2,19 @@
 #include "bench/bench_compare.h"
 #include "bench/build_info.h"
 #include "bench/check.h"
+#include "bench/estimate_run.h"
 #include "bench/runner.h"
 #include "bench/scan_run.h"
 #include "bench/protocols/registry.h"
 #include "bench/scene_file.h"
 #include "bench/synth_run.h"
 #include "synth/config.h"
+#include "synth/io.h"
 #include "synth/params.h"
 
 #include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
 
 #include <chrono>
 #include <cstdio>
@@ -348,6 +352,49 @@ Command scan_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
           }};
 }
 
+Command estimate_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
+  struct Options {
+    std::string cloud, scene, json_out;
+    std::vector<std::string> estimators;
+    int threads = 0;
+  };
+  auto o = std::make_shared<Options>();
+  auto* est = app.add_subcommand("estimate", "Run estimators on your own point cloud (PLY or PCD, metres)");
+  est->add_option("cloud", o->cloud, "Point cloud: .ply (ascii or binary) or .pcd (ascii or binary), metres, z up")
+      ->required();
+  est->add_option("scene", o->scene, "A scene file whose `estimators:` list to run")->check(CLI::ExistingFile);
+  est->add_option("-e,--estimator", o->estimators,
+                  "An estimator: a type (alpha_shape) or a mapping '{type: alpha_shape, alpha: 0.02}' (repeatable; "
+                  "default: every cloud estimator with its defaults)");
+  est->add_option("--json", o->json_out, "Also write the answer as JSON to this file");
+  est->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  est->footer(
+      "Every value is in the harness's units (volume cm3, lengths mm); named points in the cloud's frame (m).\n"
+      "Estimators and their keys: `grapebench run --help`. Example with Open3D:\n"
+      "  python3 -c \"import open3d as o3d; o3d.io.write_point_cloud('scan.ply', o3d.io.read_point_cloud('in.pcd'))\"\n"
+      "  grapebench estimate scan.ply -e convex_hull -e '{type: alpha_shape, alpha: 0.025}' --json scan.json");
+  return {est, [o, g] {
+            if (!o->scene.empty() && !o->estimators.empty()) {
+              throw InputError("estimate: give a scene or --estimator, not both");
+            }
+            const std::vector<EstimatorSpec> specs =
+                o->scene.empty() ? estimators_from_arguments(o->estimators) : estimators_from_scene(o->scene);
+            const CloudFile cloud = read_cloud_file(o->cloud);
+            if (cloud.points.rows() == 0) throw InputError(o->cloud + ": no points");
+            const int threads = o->threads > 0 ? o->threads : static_cast<int>(tbb::info::default_concurrency());
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+            const nlohmann::ordered_json answer = estimate_cloud(cloud, o->cloud, specs);
+            if (!o->json_out.empty()) {
+              if (std::filesystem::is_directory(o->json_out)) throw InputError("--json " + o->json_out + ": is a folder");
+              write_file_atomic(o->json_out, answer.dump(1) + "\n");
+            }
+            std::cout << estimate_table(answer);
+            if (g->verbosity() != Verbosity::quiet && !o->json_out.empty()) std::printf("written to %s\n", o->json_out.c_str());
+            return 0;
+          }};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -360,7 +407,8 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", g->verbose, "A progress line per item, also on a terminal");
   const std::vector<Command> commands = {synth_subcommand(app, g), run_subcommand(app, g),
                                          merge_subcommand(app),    check_subcommand(app),
-                                         compare_bench_subcommand(app), scan_subcommand(app, g)};
+                                         compare_bench_subcommand(app), scan_subcommand(app, g),
+                                         estimate_subcommand(app, g)};
   if (argc > 1 && argv[1][0] != '-') {
     std::string known;
     bool found = false;

@@ -172,6 +172,27 @@ TEST(Cli, VersionQuietAndVerboseWorkEverywhere) {
   EXPECT_NE(missing.out.find("--bunch 5"), std::string::npos) << missing.out;
 }
 
+TEST(Cli, EstimateRejectsWhatItCannotReadWithExitTwo) {
+  const std::string ply = "/tmp/grapebench_cli_estimate.ply";
+  std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                        "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const CommandResult ok = run_cli("estimate " + ply + " -e convex_hull --json /tmp/grapebench_cli_estimate.json");
+  EXPECT_EQ(ok.status, 0) << ok.out;
+  EXPECT_NE(ok.out.find("166666.667 cm3"), std::string::npos) << ok.out;  // the unit tetrahedron: 1/6 m3
+  const struct {
+    std::string args, message;
+  } bad[] = {{"estimate /tmp/grapebench_no_such.ply -e convex_hull", "no such file"},
+             {"estimate " + ply + " -e nonsense", "unknown value 'nonsense'"},
+             {"estimate " + ply + " -e luo2016_stereo", "not a point cloud"},
+             {"estimate " + ply + " -e '{type: alpha_shape, alpha: -1}'", "alpha"},
+             {"estimate " GRAPEBENCH_SOURCE_DIR "/CMakeLists.txt -e convex_hull", "not a .ply or .pcd"}};
+  for (const auto& b : bad) {
+    const CommandResult r = run_cli(b.args);
+    EXPECT_EQ(r.status, 2) << b.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(b.message), std::string::npos) << b.args << "\n" << r.out;
+  }
+}
+
 TEST(Cli, CheckExitsOneOnARegressionAndZeroOtherwise) {
   const CommandResult run = run_cli("run " GRAPEBENCH_SOURCE_DIR "/scenes/default.yaml --out /tmp/grapebench_cli_run --quiet");
   ASSERT_EQ(run.status, 0) << run.out;
