@@ -1,11 +1,54 @@
 #include "bench/case_scores.h"
 
 #include "bench/size_error.h"
+#include "synth/rng.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 
 namespace grapebench {
+
+namespace {
+
+std::uint64_t text_hash(const std::string& s) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a 64
+  for (unsigned char ch : s) {
+    h ^= ch;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string roi_of(const std::string& estimator) {
+  const auto at = estimator.find('@');
+  return at == std::string::npos ? "" : estimator.substr(at + 1);
+}
+
+}  // namespace
+
+std::vector<ComparisonRow> paired_comparisons(const SceneSet& set, const std::vector<ScoreRow>& scores) {
+  std::vector<ComparisonRow> out;
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    for (std::size_t j = i + 1; j < scores.size(); ++j) {
+      const ScoreRow &a = scores[i], &b = scores[j];
+      if (a.condition != b.condition || a.quantity != b.quantity || roi_of(a.estimator) != roi_of(b.estimator)) continue;
+      std::map<std::string, double> b_error;
+      for (std::size_t k = 0; k < b.keys.size(); ++k) b_error[b.keys[k]] = std::abs(b.estimates[k] - b.truths[k]);
+      std::vector<double> ea, eb;
+      for (std::size_t k = 0; k < a.keys.size(); ++k) {
+        const auto it = b_error.find(a.keys[k]);
+        if (it == b_error.end()) continue;
+        ea.push_back(std::abs(a.estimates[k] - a.truths[k]));
+        eb.push_back(it->second);
+      }
+      const std::uint64_t seed = derive_seed(set.conditions[static_cast<std::size_t>(a.condition)].scene.seed,
+                                             text_hash(a.estimator + "|" + b.estimator + "|" + a.quantity));
+      out.push_back({a.condition, a.quantity, a.estimator, b.estimator, compare_paired(ea, eb, seed)});
+    }
+  }
+  return out;
+}
 
 std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseResult>& cases) {
   std::vector<ScoreRow> out;
@@ -36,6 +79,7 @@ std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseRes
           const std::string qn = quantity_name(q);
           const double k = display_scale(qn);
           std::vector<double> est, truth, secs;
+          std::vector<std::string> keys;
           double heap = std::nan("");
           int n = 0;
           for (const auto& cr : cases) {
@@ -48,11 +92,25 @@ std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseRes
               if (r.ok) {
                 est.push_back(r.estimate * k);
                 truth.push_back(r.truth * k);
+                keys.push_back(std::to_string(cr.bunch) + "/" + std::to_string(r.frame) + "/" + std::to_string(r.region));
               }
             }
           }
-          out.push_back({static_cast<int>(c), roi.empty() ? spec.name : spec.name + "@" + roi, spec.type, qn,
-                         score(est, truth, n, secs), heap});
+          ScoreRow row;
+          row.condition = static_cast<int>(c);
+          row.estimator = roi.empty() ? spec.name : spec.name + "@" + roi;
+          row.type = spec.type;
+          row.quantity = qn;
+          row.score = score(est, truth, n, secs);
+          row.peak_heap_mb_max = heap;
+          const std::uint64_t seed = derive_seed(scene.seed, text_hash(set.conditions[c].label + "|" + row.estimator + "|" + qn));
+          row.intervals = bootstrap_score_intervals(est, truth, seed);
+          row.concordance = concordance(est, truth);
+          row.agreement = bland_altman(est, truth);
+          row.keys = std::move(keys);
+          row.estimates = std::move(est);
+          row.truths = std::move(truth);
+          out.push_back(std::move(row));
         }
       }
     }

@@ -94,6 +94,8 @@ std::vector<std::string> condition_labels(const SceneSet& set) {
   return labels;
 }
 
+nlohmann::ordered_json interval_json(const Interval& i) { return {jnum(i.lo), jnum(i.hi)}; }
+
 nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseResult>& cases,
                                     const std::vector<ScoreRow>& scores) {
   nlohmann::ordered_json j;
@@ -149,9 +151,33 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
                     {"bias", jnum(s.bias)},
                     {"mape_pct", jnum(s.mape)},
                     {"slope", jnum(s.slope)},
-                    {"intercept", jnum(s.intercept)}});
+                    {"intercept", jnum(s.intercept)},
+                    {"rmse_ci95", interval_json(r.intervals.rmse)},
+                    {"bias_ci95", interval_json(r.intervals.bias)},
+                    {"mape_pct_ci95", interval_json(r.intervals.mape)},
+                    {"r2_ci95", interval_json(r.intervals.r2)},
+                    {"concordance", jnum(r.concordance)},
+                    {"limits_of_agreement", {jnum(r.agreement.lower), jnum(r.agreement.upper)}}});
   }
   j["scores"] = rows;
+  // Paired comparisons: d = |error of a| - |error of b| per measurement both made
+  // (negative: a is closer to the truth), display units.
+  nlohmann::ordered_json pairs = nlohmann::ordered_json::array();
+  for (const ComparisonRow& c : paired_comparisons(set, scores)) {
+    const PairedComparison& p = c.comparison;
+    pairs.push_back({{"condition", set.conditions[static_cast<std::size_t>(c.condition)].label},
+                     {"quantity", c.quantity},
+                     {"unit", display_unit(c.quantity)},
+                     {"a", c.a},
+                     {"b", c.b},
+                     {"cases", p.cases},
+                     {"mean_abs_error_difference", jnum(p.mean_difference)},
+                     {"ci95", interval_json(p.interval)},
+                     {"wilcoxon_p", jnum(p.test.p)},
+                     {"wilcoxon_w_plus", jnum(p.test.w_plus)},
+                     {"wilcoxon_nonzero", p.test.n}});
+  }
+  j["paired_comparisons"] = pairs;
   nlohmann::ordered_json reg = nlohmann::ordered_json::array();
   const auto regs = registration_rows(set, cases);
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
@@ -222,8 +248,8 @@ std::string leaderboard(const SceneSet& set, const std::vector<CaseResult>& case
   char line[256];
   for (std::size_t c = 0; c < set.conditions.size(); ++c) {
     if (!set.conditions[c].label.empty()) s << "-- " << set.conditions[c].label << "\n";
-    std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8s %10s %10s %9s %8s %10s %8s\n", "estimator", "quantity",
-                  "ok", "R2", "RMSE", "bias", "MAPE %", "slope", "time ms", "heap MB");
+    std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8s %10s %10s %9s %15s %8s %10s %8s\n", "estimator", "quantity",
+                  "ok", "R2", "RMSE", "bias", "MAPE %", "MAPE 95% CI", "slope", "time ms", "heap MB");
     s << line;
     // Volume first, best MAPE first: the leaderboard.
     std::vector<const ScoreRow*> rows;
@@ -240,8 +266,10 @@ std::string leaderboard(const SceneSet& set, const std::vector<CaseResult>& case
       const Score& x = r->score;
       char ok[16];
       std::snprintf(ok, sizeof ok, "%d/%d", x.succeeded, x.cases);
-      std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8.3f %10.2f %10.2f %9.1f %8.3f %10.2f %8.1f  %s\n",
-                    r->estimator.c_str(), r->quantity.c_str(), ok, x.r2, x.rmse, x.bias, x.mape, x.slope,
+      char ci[32];
+      std::snprintf(ci, sizeof ci, "[%.1f, %.1f]", r->intervals.mape.lo, r->intervals.mape.hi);
+      std::snprintf(line, sizeof line, "  %-18s %-8s %5s %8.3f %10.2f %10.2f %9.1f %15s %8.3f %10.2f %8.1f  %s\n",
+                    r->estimator.c_str(), r->quantity.c_str(), ok, x.r2, x.rmse, x.bias, x.mape, ci, x.slope,
                     x.time_median * 1e3, r->peak_heap_mb_max, display_unit(r->quantity));
       s << line;
     }
