@@ -54,6 +54,16 @@ std::string fmt(double v, int prec = 3) {
   return b;
 }
 
+// An axis label: plain notation without trailing zeros ("2", "0.25", "2000").
+std::string tick_label(double v) {
+  std::string t = fmt(v, 4);
+  if (t.find('.') != std::string::npos && t.find('e') == std::string::npos) {
+    while (t.back() == '0') t.pop_back();
+    if (t.back() == '.') t.pop_back();
+  }
+  return t;
+}
+
 // "1167 [782, 1526]": a figure with its 95 % interval.
 std::string with_interval(double v, const Interval& i, int prec = 3) {
   if (!std::isfinite(i.lo)) return fmt(v, prec);
@@ -125,11 +135,11 @@ std::string plot(const std::string& title, const std::string& xlabel, const std:
   for (double t : ticks(x0, x1)) {
     o << "<line x1=\"" << px(t) << "\" x2=\"" << px(t) << "\" y1=\"" << T << "\" y2=\"" << H - B
       << "\" stroke=\"#eee\"/><text x=\"" << px(t) << "\" y=\"" << H - B + 14 << "\" text-anchor=\"middle\">"
-      << fmt(t, 4) << "</text>\n";
+      << tick_label(t) << "</text>\n";
   }
   for (double t : ticks(y0, y1)) {
     o << "<line x1=\"" << L << "\" x2=\"" << W - R << "\" y1=\"" << py(t) << "\" y2=\"" << py(t)
-      << "\" stroke=\"#eee\"/><text x=\"" << L - 4 << "\" y=\"" << py(t) + 4 << "\" text-anchor=\"end\">" << fmt(t, 4)
+      << "\" stroke=\"#eee\"/><text x=\"" << L - 4 << "\" y=\"" << py(t) + 4 << "\" text-anchor=\"end\">" << tick_label(t)
       << "</text>\n";
   }
   o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 10 << "\" text-anchor=\"middle\">" << esc(xlabel)
@@ -280,7 +290,10 @@ void header(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostring
   h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>grapebench: " << esc(set.base.name)
     << "</title>\n<style>body{font-family:sans-serif;margin:24px;max-width:1500px}table{border-collapse:collapse;"
        "font-size:13px}td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}th{background:#f3f3f3}"
-       "td.l,th.l{text-align:left}.plots{display:flex;flex-wrap:wrap;gap:8px}</style></head><body>\n";
+       "td.l,th.l{text-align:left}.plots{display:flex;flex-wrap:wrap;gap:8px}</style>\n"
+       // Script errors are collected here and shown at the page's end (and read by the browser test).
+       "<script>window.reportErrors=[];window.addEventListener('error',function(e){"
+       "window.reportErrors.push(String(e.message));});</script></head><body>\n";
   h << "<h1>grapebench run: " << esc(set.base.name) << "</h1>\n<p>Scene file <code>" << esc(set.base.path)
     << "</code>, " << cases.size() << " cases (" << set.conditions.size() << " condition(s) x "
     << (set.conditions.empty() ? 0 : bunch_jobs(set.conditions[0].scene).size())
@@ -356,7 +369,7 @@ std::string error_strips(const std::string& title, const std::string& xlabel, co
   for (double t : ticks(x0, x1)) {
     o << "<line x1=\"" << px(t) << "\" x2=\"" << px(t) << "\" y1=\"" << T << "\" y2=\"" << H - B
       << "\" stroke=\"" << (t == 0 ? "#888" : "#eee") << "\"/><text x=\"" << px(t) << "\" y=\"" << H - B + 14
-      << "\" text-anchor=\"middle\">" << fmt(t, 4) << "</text>\n";
+      << "\" text-anchor=\"middle\">" << tick_label(t) << "</text>\n";
   }
   o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 8 << "\" text-anchor=\"middle\">" << esc(xlabel) << "</text>\n";
   for (std::size_t k = 0; k < names.size(); ++k) {
@@ -738,10 +751,10 @@ void failures_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, st
       << fails.str() << "</table>\n";
   }
   h << "<p>Files: results.csv (one row per case, estimator and quantity), timings.csv, summary.json, timings.json, "
-       "manifest.json (all parameters with defaults, seeds, commit, machine), plots/*.svg.</p>\n</body></html>\n";
+       "manifest.json (all parameters with defaults, seeds, version, build identity, libraries, machine), "
+       "plots/*.svg.</p>\n";
 }
 
-}  // namespace
 
 // Seed 001's tables (stereo_pair runs): Table 2, Table 1 and Fig. 11 of Luo et al. 2016.
 void stereo_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
@@ -841,6 +854,20 @@ void classification_section(const ReportContext& ctx, [[maybe_unused]] Report& r
   h << "</div>\n";
 }
 
+// The page's self-check, run once everything loaded: how many plots drew with a size,
+// and the script errors; written into the body's data attributes and a footer line.
+void page_end([[maybe_unused]] const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
+  h << "<p id=report-check></p>\n<script>window.addEventListener('load',function(){"
+       "var drawn=0;document.querySelectorAll('svg').forEach(function(s){var b=s.getBoundingClientRect();"
+       "if(b.width>0&&b.height>0&&s.querySelector('text'))drawn++;});"
+       "document.body.setAttribute('data-plots',String(drawn));"
+       "document.body.setAttribute('data-errors',String(window.reportErrors.length));"
+       "document.getElementById('report-check').textContent=drawn+' plots drawn; script errors: '+"
+       "(window.reportErrors.length?window.reportErrors.join('; '):'none');});</script>\n</body></html>\n";
+}
+
+}  // namespace
+
 Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores,
                    const std::vector<SizeErrorCell>& size_cells) {
   ReportContext ctx{set, cases, scores, size_cells, {}};
@@ -853,7 +880,7 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
   std::ostringstream h;
   for (auto section : {header, scores_section, comparisons_section, pipeline_section, stereo_section,
                        classification_section, error_distribution_section, scatter_section, sweep_section,
-                       size_error_section, timing_section, failures_section}) {
+                       size_error_section, timing_section, failures_section, page_end}) {
     section(ctx, rep, h);
   }
   rep.html = h.str();

@@ -18,6 +18,8 @@ packages=(
   colmap  # seed 004: poses from the images (sparse SfM, CPU; run as a program)
   python3-open3d python3-jsonschema  # the external-estimator example, its tests and the protocol schema check
   libopen3d-dev   # benchmark only: bench/perf/open3d_perf.cpp compares with Open3D
+  chromium        # the report's browser test (headless)
+  libjs-three     # the report's 3D view of a scan against its ground-truth mesh (inlined)
 )
 
 missing=()

@@ -1,0 +1,54 @@
+"""The report in headless Chromium (issue 22): no script error, every plot of plots/ drawn
+with a size, and the page's own check catches a broken script and a missing plot.
+
+usage: report_browser_test.py <grapebench> <scene.yaml> <scratch folder> [screenshot.png]
+"""
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+
+def browse(page):
+    """The DOM after load, as headless Chromium leaves it."""
+    out = subprocess.run(["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=20000",
+                          "--dump-dom", page.resolve().as_uri()],
+                         check=True, capture_output=True, text=True, timeout=180)
+    body = re.search(r'<body data-plots="(\d+)" data-errors="(\d+)"', out.stdout)
+    assert body, "the page's self-check did not run:\n" + out.stdout[-2000:]
+    check = re.search(r'<p id="report-check">([^<]*)', out.stdout)
+    return int(body.group(1)), int(body.group(2)), check.group(1) if check else ""
+
+
+def main():
+    exe, scene, scratch = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+    shutil.rmtree(scratch, ignore_errors=True)
+    subprocess.run([exe, "run", scene, "-q", "--out", str(scratch)], check=True, stdout=subprocess.DEVNULL)
+    folder = next(p for p in scratch.iterdir() if p.is_dir())
+    report = folder / "report.html"
+    plot_files = sorted((folder / "plots").glob("*.svg"))
+    assert plot_files, "no plots written"
+    drawn, errors, line = browse(report)
+    print(f"{report}: {line}")
+    assert errors == 0, line
+    assert drawn >= len(plot_files), f"{drawn} plots drawn, {len(plot_files)} in plots/"
+    # The check can fail: a broken script and a plot taken out are both seen.
+    html = report.read_text()
+    broken = folder / "broken.html"
+    broken.write_text(html.replace("</body>", "<script>undefinedFunction();</script></body>", 1))
+    _, errors_broken, _ = browse(broken)
+    assert errors_broken == 1, errors_broken
+    first_svg = html.index("<svg")
+    missing = folder / "missing.html"
+    missing.write_text(html[:first_svg] + html[html.index("</svg>", first_svg) + len("</svg>"):])
+    drawn_missing, _, _ = browse(missing)
+    assert drawn_missing == drawn - 1, (drawn_missing, drawn)
+    if len(sys.argv) > 4:
+        subprocess.run(["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                        "--virtual-time-budget=20000", "--window-size=1400,2000", "--screenshot=" + sys.argv[4],
+                        report.resolve().as_uri()], check=True, capture_output=True, timeout=180)
+
+
+if __name__ == "__main__":
+    main()
