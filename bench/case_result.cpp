@@ -189,6 +189,11 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
                     {"notes", r.notes}});
   }
   j["rows"] = rows;
+  if (!c.preview_points.empty()) {
+    std::vector<float> flat;
+    for (const auto& p : c.preview_points) flat.insert(flat.end(), p.begin(), p.end());
+    j["preview_points_mm"] = flat;
+  }
   if (c.disparity_error_px >= 0) j["disparity_error_px"] = c.disparity_error_px;
   if (c.disparity_outliers >= 0) j["disparity_outliers"] = c.disparity_outliers;
   if (c.views_registered >= 0) j["views_registered"] = c.views_registered;
@@ -252,6 +257,15 @@ CaseResult case_from_json(const nlohmann::json& j) {
     c.rows.push_back(e);
   }
   if (j.contains("disparity_error_px")) c.disparity_error_px = j.at("disparity_error_px").get<double>();
+  if (j.contains("preview_points_mm")) {
+    const auto flat = j.at("preview_points_mm").get<std::vector<float>>();
+    if (flat.size() % 3 != 0 || flat.size() > 3 * kPreviewPoints) throw std::runtime_error("preview_points_mm: bad size");
+    for (std::size_t i = 0; i < flat.size(); i += 3) {
+      if (!std::isfinite(flat[i]) || !std::isfinite(flat[i + 1]) || !std::isfinite(flat[i + 2]))
+        throw std::runtime_error("preview_points_mm: not finite");
+      c.preview_points.push_back({flat[i], flat[i + 1], flat[i + 2]});
+    }
+  }
   if (j.contains("disparity_outliers")) c.disparity_outliers = j.at("disparity_outliers").get<double>();
   if (j.contains("views_registered")) c.views_registered = j.at("views_registered").get<int>();
   if (j.contains("confusion")) {

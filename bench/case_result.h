@@ -2,6 +2,8 @@
 // scores, timings), its key and case file, and the estimator runs every protocol shares.
 #pragma once
 
+#include <array>
+
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -51,6 +53,8 @@ struct ConfusionCounts {
   std::vector<long long> counts;     // K x K, row-major: rows true class, columns predicted
 };
 
+inline constexpr std::size_t kPreviewPoints = 6000;
+
 struct CaseResult {
   int condition = 0;
   int bunch = 0;
@@ -58,6 +62,9 @@ struct CaseResult {
   std::uint64_t seed = 0;
   std::string key;  // hash of everything the case depends on (resume check)
   std::string build;  // build_identity() of the binary that computed it (resume check)
+  // The registered cloud of the run's first case (condition 0, bunch 0), at most
+  // kPreviewPoints of it (an even stride), for the report's pictures: N x 3, mm.
+  std::vector<std::array<float, 3>> preview_points;
   bool ok = false;  // false: the scan or registration failed (error says why)
   std::string error;
   std::size_t points = 0;  // bunch points after segmentation and registration

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <set>
@@ -11,6 +12,8 @@
 #include <tuple>
 
 #include "bench/classification_tables.h"
+#include "synth/generate.h"
+#include "synth/mesh.h"
 #include "bench/stereo_tables.h"
 
 namespace grapebench {
@@ -854,6 +857,164 @@ void classification_section(const ReportContext& ctx, [[maybe_unused]] Report& r
   h << "</div>\n";
 }
 
+// The ground-truth mesh of the run's first bunch, coarse enough for a picture.
+TriMesh first_bunch_mesh(const SceneSet& set) {
+  const BunchJob job = bunch_jobs(set.conditions[0].scene).front();
+  TriMesh mesh = bunch_mesh(generate_bunch(job.params, job.seed), MeshOptions{1, 8});
+  TriMesh out;
+  out.vertices = mesh.vertices;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    if (mesh.face_internal.empty() || !mesh.face_internal[f]) {
+      out.faces.push_back(mesh.faces[f]);
+      out.face_part.push_back(mesh.face_part[f]);
+    }
+  }
+  return out;
+}
+
+// A side view (x right, z up, looking along +y) of the mesh, flat-shaded, back faces
+// culled and the rest drawn far to near, beside the scan's points coloured by depth.
+std::string side_view_svg(const TriMesh& mesh, const std::vector<std::array<float, 3>>& points) {
+  double x0 = 1e9, x1 = -1e9, z0 = 1e9, z1 = -1e9;
+  for (const Vec3& v : mesh.vertices) {
+    x0 = std::min(x0, v.x() * 1e3), x1 = std::max(x1, v.x() * 1e3);
+    z0 = std::min(z0, v.z() * 1e3), z1 = std::max(z1, v.z() * 1e3);
+  }
+  for (const auto& p : points) {
+    x0 = std::min(x0, double(p[0])), x1 = std::max(x1, double(p[0]));
+    z0 = std::min(z0, double(p[2])), z1 = std::max(z1, double(p[2]));
+  }
+  const double pad = 10, panel = 320, scale = (panel - 2 * pad) / std::max({x1 - x0, z1 - z0, 1.0});
+  const auto px = [&](double x, double offset) { return offset + pad + (x - x0) * scale; };
+  const auto py = [&](double z) { return panel - pad - (z - z0) * scale; };
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << 2 * panel << "\" height=\"" << panel + 24
+    << "\" font-family=\"sans-serif\" font-size=\"12\"><rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << "<text x=\"" << panel / 2 << "\" y=\"" << panel + 16 << "\" text-anchor=\"middle\">ground-truth mesh</text>"
+    << "<text x=\"" << 1.5 * panel << "\" y=\"" << panel + 16 << "\" text-anchor=\"middle\">registered scan ("
+    << points.size() << " points shown)</text>\n";
+  struct Face {
+    double depth;
+    std::size_t index;
+  };
+  std::vector<Face> faces;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const auto& t = mesh.faces[f];
+    const Vec3 n = (mesh.vertices[static_cast<std::size_t>(t[1])] - mesh.vertices[static_cast<std::size_t>(t[0])])
+                       .cross(mesh.vertices[static_cast<std::size_t>(t[2])] - mesh.vertices[static_cast<std::size_t>(t[0])]);
+    if (n.y() >= 0) continue;  // faces away from a viewer at -y
+    double d = 0;
+    for (int k : t) d += mesh.vertices[static_cast<std::size_t>(k)].y();
+    faces.push_back({-d, f});
+  }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.depth < b.depth || (a.depth == b.depth && a.index < b.index); });
+  const Vec3 light = Vec3(-0.4, -1.0, 0.6).normalized();
+  char buf[160];
+  for (const Face& f : faces) {
+    const auto& t = mesh.faces[f.index];
+    const Vec3 &a = mesh.vertices[static_cast<std::size_t>(t[0])], &b = mesh.vertices[static_cast<std::size_t>(t[1])],
+               &c = mesh.vertices[static_cast<std::size_t>(t[2])];
+    const double shade = 0.35 + 0.65 * std::max(0.0, (b - a).cross(c - a).normalized().dot(light));
+    const bool berry = mesh.face_part[f.index] == Part::Berry;
+    const int r = static_cast<int>((berry ? 120 : 110) * shade), g = static_cast<int>((berry ? 40 : 130) * shade),
+              bl = static_cast<int>((berry ? 90 : 60) * shade);
+    std::snprintf(buf, sizeof buf, "<polygon points=\"%.1f,%.1f %.1f,%.1f %.1f,%.1f\" fill=\"rgb(%d,%d,%d)\" stroke=\"rgb(%d,%d,%d)\" stroke-width=\"0.4\"/>",
+                  px(a.x() * 1e3, 0), py(a.z() * 1e3), px(b.x() * 1e3, 0), py(b.z() * 1e3), px(c.x() * 1e3, 0),
+                  py(c.z() * 1e3), r, g, bl, r, g, bl);
+    o << buf;
+  }
+  o << "\n";
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return points[i][1] > points[j][1] || (points[i][1] == points[j][1] && i < j); });
+  double y0 = 1e9, y1 = -1e9;
+  for (const auto& p : points) y0 = std::min(y0, double(p[1])), y1 = std::max(y1, double(p[1]));
+  for (std::size_t i : order) {
+    const auto& p = points[i];
+    const double near = y1 > y0 ? (y1 - p[1]) / (y1 - y0) : 1;  // 1: nearest the viewer
+    std::snprintf(buf, sizeof buf, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"1.3\" fill=\"rgb(%d,%d,%d)\"/>",
+                  px(p[0], panel), py(p[2]), static_cast<int>(40 + 180 * near), 60, static_cast<int>(200 - 150 * near));
+    o << buf;
+  }
+  o << "\n</svg>\n";
+  return o.str();
+}
+
+std::string slurp_text(const char* path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return in ? s.str() : std::string();
+}
+
+// The run's first bunch: a side view of its mesh and registered scan, and (with
+// Debian's libjs-three) an interactive 3D view of the scan against the mesh, inlined.
+void first_bunch_section(const ReportContext& ctx, Report& rep, std::ostringstream& h) {
+  [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
+  const CaseResult* first = nullptr;
+  for (const auto& c : cases) {
+    if (c.condition == 0 && c.bunch == 0 && !c.preview_points.empty()) first = &c;
+  }
+  if (!first) return;
+  const TriMesh mesh = first_bunch_mesh(set);
+  h << "<h2>The first bunch and its scan</h2>\n<p>Bunch 0 of " << esc(set.conditions[0].label.empty() ? "the run" : set.conditions[0].label)
+    << " (" << esc(first->preset) << ", seed " << first->seed << "): its ground-truth mesh (" << mesh.faces.size()
+    << " triangles at icosphere level 1) and the registered cloud the estimators measured (" << first->points
+    << " points, " << first->preview_points.size() << " shown), in the cloud's frame (the world frame when the "
+    << "registration holds; the mesh is always in the world frame).</p>\n";
+  const std::string svg = side_view_svg(mesh, first->preview_points);
+  rep.svgs["first_bunch_side_view.svg"] = svg;
+  h << svg;
+  const std::string three = slurp_text("/usr/share/javascript/three/three.min.js");
+  const std::string orbit = slurp_text("/usr/share/javascript/three/examples/js/controls/OrbitControls.js");
+  if (three.empty() || orbit.empty()) {
+    h << "<p>No 3D view: Debian's libjs-three is not installed (scripts/setup.sh installs it).</p>\n";
+    return;
+  }
+  std::ostringstream data;
+  data << "{\"vertices\":[";
+  char buf[64];
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%s%.1f,%.1f,%.1f", i ? "," : "", mesh.vertices[i].x() * 1e3, mesh.vertices[i].y() * 1e3,
+                  mesh.vertices[i].z() * 1e3);
+    data << buf;
+  }
+  data << "],\"faces\":[";
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    data << (f ? "," : "") << mesh.faces[f][0] << "," << mesh.faces[f][1] << "," << mesh.faces[f][2];
+  }
+  data << "],\"points\":[";
+  for (std::size_t i = 0; i < first->preview_points.size(); ++i) {
+    const auto& p = first->preview_points[i];
+    std::snprintf(buf, sizeof buf, "%s%.1f,%.1f,%.1f", i ? "," : "", p[0], p[1], p[2]);
+    data << buf;
+  }
+  data << "]}";
+  h << "<p>Drag to turn, scroll to zoom; red: the scan, grey: the ground-truth surface. <label><input type=checkbox "
+       "id=viewer-mesh checked> mesh</label></p>\n<div id=viewer style=\"width:800px;height:560px;border:1px solid #ccc\"></div>\n"
+       "<script>" << three << "\n</script>\n<script>" << orbit << "\n</script>\n<script>\n"
+       "(function(){var data=" << data.str() << ";\n"
+       "var host=document.getElementById('viewer');var probe=document.createElement('canvas');\n"
+       "if(!(probe.getContext('webgl')||probe.getContext('experimental-webgl'))){host.textContent='No WebGL in this browser: "
+       "the 3D view cannot be shown.';document.body.setAttribute('data-viewer','no-webgl');return;}\n"
+       "var scene=new THREE.Scene();scene.background=new THREE.Color(0xffffff);\n"
+       "var g=new THREE.BufferGeometry();g.setAttribute('position',new THREE.Float32BufferAttribute(data.vertices,3));\n"
+       "g.setIndex(data.faces);g.computeVertexNormals();g.computeBoundingSphere();\n"
+       "var mesh=new THREE.Mesh(g,new THREE.MeshLambertMaterial({color:0x9a9a9a,transparent:true,opacity:0.55}));scene.add(mesh);\n"
+       "var pg=new THREE.BufferGeometry();pg.setAttribute('position',new THREE.Float32BufferAttribute(data.points,3));\n"
+       "scene.add(new THREE.Points(pg,new THREE.PointsMaterial({color:0xd62728,size:2.5,sizeAttenuation:false})));\n"
+       "scene.add(new THREE.AmbientLight(0xffffff,0.5));var light=new THREE.DirectionalLight(0xffffff,0.7);"
+       "light.position.set(-300,-600,500);scene.add(light);\n"
+       "var s=g.boundingSphere;var camera=new THREE.PerspectiveCamera(40,host.clientWidth/host.clientHeight,1,100000);\n"
+       "camera.up.set(0,0,1);camera.position.set(s.center.x,s.center.y-3.2*s.radius,s.center.z+0.8*s.radius);\n"
+       "var renderer=new THREE.WebGLRenderer({antialias:true});renderer.setSize(host.clientWidth,host.clientHeight);\n"
+       "host.appendChild(renderer.domElement);var controls=new THREE.OrbitControls(camera,renderer.domElement);\n"
+       "controls.target.copy(s.center);controls.update();\n"
+       "document.getElementById('viewer-mesh').addEventListener('change',function(e){mesh.visible=e.target.checked;draw();});\n"
+       "function draw(){renderer.render(scene,camera);}controls.addEventListener('change',draw);draw();\n"
+       "document.body.setAttribute('data-viewer','drawn');})();\n</script>\n";
+}
+
 // The page's self-check, run once everything loaded: how many plots drew with a size,
 // and the script errors; written into the body's data attributes and a footer line.
 void page_end([[maybe_unused]] const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
@@ -879,8 +1040,8 @@ Report make_report(const SceneSet& set, const std::vector<CaseResult>& cases, co
   Report rep;
   std::ostringstream h;
   for (auto section : {header, scores_section, comparisons_section, pipeline_section, stereo_section,
-                       classification_section, error_distribution_section, scatter_section, sweep_section,
-                       size_error_section, timing_section, failures_section, page_end}) {
+                       classification_section, error_distribution_section, first_bunch_section, scatter_section,
+                       sweep_section, size_error_section, timing_section, failures_section, page_end}) {
     section(ctx, rep, h);
   }
   rep.html = h.str();

@@ -174,6 +174,21 @@ EstimateRow visibility_floor(const Scene& scene, const CaseCapture& c) {
   return row;
 }
 
+// At most kPreviewPoints of the cloud at an even stride, mm rounded to 0.1.
+std::vector<std::array<float, 3>> preview_of(const PointCloud& points) {
+  std::vector<std::array<float, 3>> out;
+  const auto n = static_cast<std::size_t>(points.rows());
+  const std::size_t stride = std::max<std::size_t>(1, (n + kPreviewPoints - 1) / kPreviewPoints);
+  for (std::size_t i = 0; i < n; i += stride) {
+    std::array<float, 3> p;
+    for (int k = 0; k < 3; ++k) {
+      p[static_cast<std::size_t>(k)] = static_cast<float>(std::round(points(static_cast<Eigen::Index>(i), k) * 1e4) / 10);
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
 }  // namespace
 
 CaseResult run_multi_view(const Condition& condition, int condition_index, const BunchJob& job) {
@@ -208,6 +223,7 @@ CaseResult run_multi_view(const Condition& condition, int condition_index, const
     input = estimator_input(merged, capture.scan, poses, segmented);
     r.filter_seconds = seconds_since(t0);
     r.points = static_cast<std::size_t>(input.points.rows());
+    if (condition_index == 0 && job.index == 0) r.preview_points = preview_of(input.points);
     if (static_cast<double>(input.points.rows()) < pl.min_points) {
       throw InputError("only " + std::to_string(input.points.rows()) + " bunch points (pipeline.min_points " +
                        std::to_string(static_cast<long long>(pl.min_points)) + ")");

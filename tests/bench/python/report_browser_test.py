@@ -15,10 +15,11 @@ def browse(page):
     out = subprocess.run(["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=20000",
                           "--dump-dom", page.resolve().as_uri()],
                          check=True, capture_output=True, text=True, timeout=180)
-    body = re.search(r'<body data-plots="(\d+)" data-errors="(\d+)"', out.stdout)
-    assert body, "the page's self-check did not run:\n" + out.stdout[-2000:]
+    body = re.search(r'<body([^>]*)>', out.stdout)
+    attributes = dict(re.findall(r'data-(\w+)="([^"]*)"', body.group(1) if body else ""))
+    assert "plots" in attributes, "the page's self-check did not run:\n" + out.stdout[-2000:]
     check = re.search(r'<p id="report-check">([^<]*)', out.stdout)
-    return int(body.group(1)), int(body.group(2)), check.group(1) if check else ""
+    return int(attributes["plots"]), int(attributes["errors"]), attributes.get("viewer", ""), check.group(1) if check else ""
 
 
 def main():
@@ -29,20 +30,21 @@ def main():
     report = folder / "report.html"
     plot_files = sorted((folder / "plots").glob("*.svg"))
     assert plot_files, "no plots written"
-    drawn, errors, line = browse(report)
-    print(f"{report}: {line}")
+    drawn, errors, viewer, line = browse(report)
+    print(f"{report}: {line}; 3D view: {viewer}")
     assert errors == 0, line
     assert drawn >= len(plot_files), f"{drawn} plots drawn, {len(plot_files)} in plots/"
+    assert viewer == "drawn", f"the 3D view of the first bunch was not drawn: '{viewer}'"
     # The check can fail: a broken script and a plot taken out are both seen.
     html = report.read_text()
     broken = folder / "broken.html"
     broken.write_text(html.replace("</body>", "<script>undefinedFunction();</script></body>", 1))
-    _, errors_broken, _ = browse(broken)
+    _, errors_broken, _, _ = browse(broken)
     assert errors_broken == 1, errors_broken
     first_svg = html.index("<svg")
     missing = folder / "missing.html"
     missing.write_text(html[:first_svg] + html[html.index("</svg>", first_svg) + len("</svg>"):])
-    drawn_missing, _, _ = browse(missing)
+    drawn_missing, _, _, _ = browse(missing)
     assert drawn_missing == drawn - 1, (drawn_missing, drawn)
     if len(sys.argv) > 4:
         subprocess.run(["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
