@@ -20,6 +20,7 @@ packages=(
   libopen3d-dev   # benchmark only: bench/perf/open3d_perf.cpp compares with Open3D
   chromium        # the report's browser test (headless)
   libjs-three     # the report's 3D view of a scan against its ground-truth mesh (inlined)
+  python3-pandas  # the README's example of reading results.csv (tested)
 )
 
 missing=()
