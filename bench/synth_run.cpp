@@ -1,6 +1,7 @@
 #include "bench/synth_run.h"
 
 #include "synth/io.h"
+#include "synth/union_mesh.h"
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -36,7 +37,7 @@ std::vector<SynthResult> run_synth(const std::vector<BunchJob>& jobs, const Synt
       write_file_atomic(o.out / (std::string(stem) + ".json"),
                         ground_truth_json(bunch, r.truth, rec).dump(1) + "\n");
       if (o.write_mesh) {
-        const TriMesh mesh = bunch_mesh(bunch, o.mesh);
+        const TriMesh mesh = bunch_surface(bunch, o.mesh);
         write_file_atomic(o.out / (std::string(stem) + ".ply"), ply_bytes(mesh));
         write_file_atomic(o.out / (std::string(stem) + ".obj"), obj_text(mesh, "parts.mtl"));
       }

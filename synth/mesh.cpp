@@ -15,33 +15,9 @@ namespace {
 
 // Unit icosphere as a convex polyhedron of triangles.
 ConvexPolyhedron icosphere(int level) {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (auto& x : v) x.normalize();
-  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int l = 0; l < level; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back((v[a] + v[b]).normalized());
-      return mid[key] = static_cast<int>(v.size()) - 1;
-    };
-    std::vector<std::array<int, 3>> g;
-    for (const auto& tri : f) {
-      const int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
-      g.push_back({tri[0], a, c});
-      g.push_back({tri[1], b, a});
-      g.push_back({tri[2], c, b});
-      g.push_back({a, b, c});
-    }
-    f = std::move(g);
-  }
+  std::vector<Vec3> v;
+  std::vector<std::array<int, 3>> f;
+  unit_icosphere(level, v, f);
   ConvexPolyhedron p;
   for (const auto& tri : f) {
     PolyFace face;
@@ -194,6 +170,35 @@ Exported exported(const TriMesh& m) {
 
 }  // namespace
 
+void unit_icosphere(int level, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+       {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (auto& x : v) x.normalize();
+  f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9},  {5, 11, 4},
+       {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6},  {3, 6, 8},
+       {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int l = 0; l < level; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      return mid[key] = static_cast<int>(v.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> g;
+    for (const auto& tri : f) {
+      const int a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
+      g.push_back({tri[0], a, c});
+      g.push_back({tri[1], b, a});
+      g.push_back({tri[2], c, b});
+      g.push_back({a, b, c});
+    }
+    f = std::move(g);
+  }
+}
+
 TriMesh bunch_mesh(const Bunch& bunch, const MeshOptions& o) {
   if (o.sphere_subdivisions < 0 || o.sphere_subdivisions > 6) {
     throw InputError("mesh: sphere_subdivisions must be in [0, 6]");
@@ -250,7 +255,7 @@ std::string ply_bytes(const TriMesh& m) {
   h << "ply\nformat binary_little_endian 1.0\n"
     << "comment grapebench bunch mesh, metres; part: 0 berry 1 pedicel 2 rachis 3 peduncle\n"
     << "element vertex " << e.vertices.size() << "\n"
-    << "property float x\nproperty float y\nproperty float z\n"
+    << "property double x\nproperty double y\nproperty double z\n"
     << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
     << "element face " << e.faces.size() << "\n"
     << "property list uchar int vertex_indices\n"
@@ -259,9 +264,9 @@ std::string ply_bytes(const TriMesh& m) {
   std::string s = h.str();
   for (std::size_t k = 0; k < e.vertices.size(); ++k) {
     const Vec3& v = m.vertices[e.vertices[k]];
-    put(s, static_cast<float>(v.x()));
-    put(s, static_cast<float>(v.y()));
-    put(s, static_cast<float>(v.z()));
+    put(s, v.x());  // double: rounding the closed union to float can make faces cross
+    put(s, v.y());
+    put(s, v.z());
     put_u8(s, byte(e.vertex_colour[k].r));
     put_u8(s, byte(e.vertex_colour[k].g));
     put_u8(s, byte(e.vertex_colour[k].b));

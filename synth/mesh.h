@@ -30,12 +30,16 @@ struct MeshOptions {
 };
 
 TriMesh bunch_mesh(const Bunch& bunch, const MeshOptions& options = {});
+// The unit icosphere: 12 vertices of the icosahedron, each level splitting every
+// triangle in four with midpoints pushed onto the sphere; faces counter-clockwise
+// seen from outside.
+void unit_icosphere(int level, std::vector<Vec3>& vertices, std::vector<std::array<int, 3>>& faces);
 // Enclosed volume of the closed pieces (signed tetrahedra), m3.
 double enclosed_volume(const TriMesh& mesh);
 // Colour of a face label: berries a distinct hue per id, stems one per part.
 Rgb label_colour(Part part, int berry);
 
-// Binary little-endian PLY: vertex x y z (float) + label colour; face indices,
+// Binary little-endian PLY: vertex x y z (double) + label colour; face indices,
 // label colour, `part` (uchar) and `berry` (int). Exported faces only.
 std::string ply_bytes(const TriMesh& mesh);
 // Wavefront OBJ with one material per part (label colours) and a group per piece;
