@@ -47,7 +47,8 @@ std::vector<EstimatorSpec> estimators_from_scene(const std::string& path) {
 }
 
 nlohmann::ordered_json estimate_cloud(const CloudFile& cloud, const std::string& file,
-                                      const std::vector<EstimatorSpec>& estimators) {
+                                      const std::vector<EstimatorSpec>& estimators, Verbosity verbosity) {
+  Progress progress("estimator", static_cast<int>(estimators.size()), verbosity);
   EstimatorInput input;
   input.points = cloud.points;
   if (cloud.normals.rows() == cloud.points.rows()) input.normals = cloud.normals;
@@ -84,6 +85,7 @@ nlohmann::ordered_json estimate_cloud(const CloudFile& cloud, const std::string&
     r["notes"] = t.estimate.notes;
     r["parameters"] = spec.params;
     runs.push_back(r);
+    progress.done(spec.name, !error.empty());
   }
   answer["estimators"] = runs;
   return answer;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "bench/cloud_file.h"
+#include "bench/progress.h"
 #include "bench/scene.h"
 
 #include <nlohmann/json.hpp>
@@ -25,7 +26,8 @@ std::vector<EstimatorSpec> estimators_from_scene(const std::string& path);
 // {value, unit}}, points: {name: [x, y, z]}, notes}]}, values in display units (cm3,
 // mm), points in the file's units.
 nlohmann::ordered_json estimate_cloud(const CloudFile& cloud, const std::string& file,
-                                      const std::vector<EstimatorSpec>& estimators);
+                                      const std::vector<EstimatorSpec>& estimators,
+                                      Verbosity verbosity = Verbosity::quiet);
 // The answer as a console table.
 std::string estimate_table(const nlohmann::ordered_json& answer);
 

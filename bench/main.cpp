@@ -384,7 +384,7 @@ Command estimate_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
             if (cloud.points.rows() == 0) throw InputError(o->cloud + ": no points");
             const int threads = o->threads > 0 ? o->threads : static_cast<int>(tbb::info::default_concurrency());
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-            const nlohmann::ordered_json answer = estimate_cloud(cloud, o->cloud, specs);
+            const nlohmann::ordered_json answer = estimate_cloud(cloud, o->cloud, specs, g->verbosity());
             if (!o->json_out.empty()) {
               if (std::filesystem::is_directory(o->json_out)) throw InputError("--json " + o->json_out + ": is a folder");
               write_file_atomic(o->json_out, answer.dump(1) + "\n");
