@@ -1,5 +1,7 @@
 #include "bench/bench_compare.h"
 
+#include "synth/config.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,8 +19,15 @@ std::map<std::string, std::vector<double>> times(const nlohmann::json& j) {
     if (b.value("run_type", "iteration") != "iteration") continue;
     const std::string name = b.value("run_name", b.at("name").get<std::string>());
     const std::string unit = b.value("time_unit", "ns");
+    if (unit != "s" && unit != "ms" && unit != "us" && unit != "ns") {
+      throw InputError("benchmark '" + name + "': time_unit '" + unit + "' (s, ms, us or ns)");
+    }
     const double scale = unit == "s" ? 1e9 : unit == "ms" ? 1e6 : unit == "us" ? 1e3 : 1.0;
-    out[name].push_back(b.at("real_time").get<double>() * scale);  // ns
+    const double t = b.at("real_time").get<double>();
+    if (!std::isfinite(t) || t <= 0) {
+      throw InputError("benchmark '" + name + "': real_time " + std::to_string(t) + " (a positive, finite time)");
+    }
+    out[name].push_back(t * scale);  // ns
   }
   return out;
 }

@@ -17,6 +17,7 @@
 #include <tbb/info.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -314,6 +315,7 @@ Command compare_bench_subcommand(CLI::App& app) {
       "SLOWER when the ratio of medians exceeds 1 + threshold and (with 3+ repetitions each) the\n"
       "Mann-Whitney U test gives p < 0.05.");
   return {cmp, [o] {
+            if (!std::isfinite(o->threshold)) throw InputError("--threshold: a number in [0, 10], got nan");
             BenchComparison c;
             try {
               c = compare_benchmarks(read_json(o->old_file, "a Google Benchmark JSON file"),

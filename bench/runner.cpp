@@ -47,13 +47,17 @@ std::vector<CaseRef> all_cases(const SceneSet& set, const fs::path& out) {
 
 // A finished case file with the expected key, computed by this build unless
 // `any_build`; `other_build` counts the files that match but another build computed.
-std::optional<CaseResult> read_case(const fs::path& file, const std::string& key, bool any_build, int* other_build) {
+std::optional<CaseResult> read_case(const CaseRef& ref, const fs::path& file, bool any_build, int* other_build) {
+  const std::string& key = ref.key;
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
   try {
     const auto j = nlohmann::json::parse(in);
     CaseResult c = case_from_json(j);
     if (c.key != key) return std::nullopt;
+    // A file whose indices are not its place's is foreign or edited: its condition
+    // would index the scene's conditions unchecked further on.
+    if (c.condition != ref.condition || c.bunch != ref.job.index) return std::nullopt;
     if (c.build != build_identity()) {
       if (other_build) ++*other_build;
       if (!any_build) return std::nullopt;
@@ -84,7 +88,7 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   std::vector<std::size_t> pending;
   for (std::size_t i = 0; i < refs.size(); ++i) {
     if (static_cast<int>(i % static_cast<std::size_t>(o.shard_count)) != o.shard_index) continue;
-    if (o.resume) results[i] = read_case(refs[i].file, refs[i].key, o.reuse_other_builds, &outcome.other_build);
+    if (o.resume) results[i] = read_case(refs[i], refs[i].file, o.reuse_other_builds, &outcome.other_build);
     if (results[i]) {
       ++outcome.reused;
     } else {
@@ -104,7 +108,7 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   // Other shards' cases may already be here (a shared folder); the tables need all.
   std::vector<CaseResult> cases;
   for (std::size_t i = 0; i < refs.size(); ++i) {
-    if (!results[i]) results[i] = read_case(refs[i].file, refs[i].key, o.reuse_other_builds, nullptr);
+    if (!results[i]) results[i] = read_case(refs[i], refs[i].file, o.reuse_other_builds, nullptr);
     if (!results[i]) return outcome;
     cases.push_back(*results[i]);
   }
@@ -122,10 +126,10 @@ RunOutcome merge_shards(const SceneSet& set, const std::vector<fs::path>& shard_
   std::string missing;
   int n_missing = 0;
   for (const auto& ref : refs) {
-    std::optional<CaseResult> found = read_case(ref.file, ref.key, o.reuse_other_builds, nullptr);
+    std::optional<CaseResult> found = read_case(ref, ref.file, o.reuse_other_builds, nullptr);
     for (const auto& d : shard_dirs) {
       if (found) break;
-      found = read_case(d / "cases" / ref.file.filename(), ref.key, o.reuse_other_builds, &outcome.other_build);
+      found = read_case(ref, d / "cases" / ref.file.filename(), o.reuse_other_builds, &outcome.other_build);
       if (found) write_file_atomic(ref.file, case_to_json(*found).dump(1) + "\n");
     }
     if (!found) {

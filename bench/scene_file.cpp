@@ -1,5 +1,8 @@
 #include "bench/scene_file.h"
 
+#include <algorithm>
+#include <cctype>
+
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -60,6 +63,15 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
   Scene s;
   s.path = path;
   s.name = root.get_string("name", std::filesystem::path(path).stem().string());
+  // The name is a folder under --out: a safe file name, never a path.
+  const bool safe = !s.name.empty() && s.name.size() <= 100 && s.name.front() != '.' && s.name.front() != '-' &&
+                    std::all_of(s.name.begin(), s.name.end(), [](char c) {
+                      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+                    });
+  if (!safe) {
+    root.fail("name", "'" + s.name + "' is not a safe folder name: 1-100 of A-Z a-z 0-9 _ - . not starting with . or -" +
+                          (root.has("name") ? "" : " (the default is the file's name; set `name:`)"));
+  }
   if (!root.has("seed")) root.fail("seed", "missing: every scene names its seed (an unsigned integer)");
   s.seed = root.get_seed("seed", 0);
   s.protocol = root.get_choice("protocol", s.protocol, protocol_registry().types());
@@ -170,13 +182,7 @@ std::string number_label(double v) {
   return s.str();
 }
 
-YAML::Node parse_yaml(const std::string& text, const std::string& name) {
-  try {
-    return YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  }
-}
+YAML::Node parse_yaml(const std::string& text, const std::string& name) { return ConfigNode::parse_strict(text, name); }
 
 // Each condition re-parses the text (YAML::Clone would drop the line marks).
 SceneSet expand(const std::string& text, const std::string& name) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace grapebench {
@@ -35,15 +36,53 @@ ConfigNode::ConfigNode(YAML::Node node, std::shared_ptr<State> state, std::strin
       path_(std::move(path)),
       used_(std::make_shared<std::set<std::string>>()) {}
 
-ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
+namespace {
+
+// Strict YAML: what yaml-cpp accepts silently but a scene must not hold. Duplicate
+// keys (yaml-cpp keeps both and lookups see the first), keys that are not plain
+// scalars, and explicit tags (`!!str 5` would be read as the number 5 anyway).
+void check_strict(const YAML::Node& node, const std::string& name, int depth) {
+  const auto at = [&](const YAML::Node& n) { return name + ":" + std::to_string(n.Mark().line + 1) + ": "; };
+  if (depth > 64) throw InputError(at(node) + "nested more than 64 levels deep");
+  if (node.Tag() != "?" && node.Tag() != "!" && !node.Tag().empty()) {
+    throw InputError(at(node) + "explicit YAML tag '" + node.Tag() + "' is not allowed; write the plain value");
+  }
+  if (node.IsMap()) {
+    std::set<std::string> seen;
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) throw InputError(at(kv.first) + "a key must be a plain name, not a list or mapping");
+      if (!seen.insert(kv.first.Scalar()).second) {
+        throw InputError(at(kv.first) + "'" + kv.first.Scalar() + "' is given twice in the same mapping");
+      }
+      check_strict(kv.first, name, depth + 1);
+      check_strict(kv.second, name, depth + 1);
+    }
+  } else if (node.IsSequence()) {
+    for (const auto& item : node) check_strict(item, name, depth + 1);
+  }
+}
+
+}  // namespace
+
+YAML::Node ConfigNode::parse_strict(const std::string& text, const std::string& name) {
   YAML::Node root;
   try {
-    root = YAML::Load(text);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1) {
+      throw InputError(name + ":" + std::to_string(documents[1].Mark().line + 1) +
+                       ": a second YAML document; a scene file holds one");
+    }
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& e) {
     throw InputError(name + ":" + std::to_string(e.mark.line + 1) +
                      ": YAML syntax error: " + e.msg);
   }
-  return from_yaml(root, name);
+  check_strict(root, name, 0);
+  return root;
+}
+
+ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
+  return from_yaml(parse_strict(text, name), name);
 }
 
 ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name) {

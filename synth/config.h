@@ -35,6 +35,9 @@ class ConfigNode {
   static ConfigNode load_file(const std::string& path);
   // Parses text; `name` stands for the file in messages.
   static ConfigNode load_string(const std::string& text, const std::string& name);
+  // The strict parse under both: one document; no duplicate or non-scalar keys, no
+  // explicit tags, at most 64 levels deep; else InputError with file:line.
+  static YAML::Node parse_strict(const std::string& text, const std::string& name);
   // Wraps an already parsed document (e.g. a scene with sweep values substituted;
   // substituted nodes keep the line marks of where their values were written).
   static ConfigNode from_yaml(YAML::Node root, const std::string& name);

@@ -150,6 +150,51 @@ TEST(Cli, CasesOfAnotherBuildAreRecomputedUnlessReuseIsAsked) {
   }
 }
 
+// Issue 23's reproducer: a case file whose `condition` is out of range (the key still
+// matching) made a resumed run index the conditions unchecked and crash.
+TEST(Cli, ACaseFileWithForeignIndicesIsRecomputedNotTrusted) {
+  const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
+  const std::string out = "/tmp/grapebench_cli_condition";
+  std::filesystem::remove_all(out);
+  ASSERT_EQ(run_cli("run " + scene + " --out " + out + " -q").status, 0);
+  for (const char* value : {"999", "2147483647", "-1"}) {
+    const std::string file = out + "/two_bunches_hull/cases/c0000_b0000.json";
+    std::ifstream in(file);
+    std::stringstream text;
+    text << in.rdbuf();
+    in.close();
+    std::string json = text.str();
+    const auto at = json.find("\"condition\": 0");
+    ASSERT_NE(at, std::string::npos) << json.substr(0, 200);
+    json.replace(at, std::string("\"condition\": 0").size(), std::string("\"condition\": ") + value);
+    std::ofstream(file) << json;
+    const CommandResult again = run_cli("run " + scene + " --out " + out + " -q");
+    EXPECT_EQ(again.status, 0) << value << "\n" << again.out;
+    EXPECT_NE(again.out.find("2 cases: 1 computed, 1 reused"), std::string::npos) << value << "\n" << again.out;
+  }
+}
+
+// Issue 23's reproducers: `--threshold nan` turned the gate off and negative times
+// were compared.
+TEST(Cli, CompareBenchRejectsNanThresholdsAndNonPositiveTimes) {
+  const std::string good = "/tmp/grapebench_cli_bench_good.json", bad = "/tmp/grapebench_cli_bench_bad.json";
+  const auto write = [](const std::string& path, const char* time) {
+    std::ofstream(path) << "{\"context\":{},\"benchmarks\":[{\"name\":\"a\",\"run_type\":\"iteration\",\"real_time\":"
+                        << time << ",\"cpu_time\":1.0,\"time_unit\":\"ns\",\"iterations\":1}]}";
+  };
+  write(good, "1.0");
+  EXPECT_EQ(run_cli("compare-bench " + good + " " + good).status, 0);
+  const CommandResult nan = run_cli("compare-bench " + good + " " + good + " --threshold nan");
+  EXPECT_EQ(nan.status, 2) << nan.out;
+  for (const char* time : {"-1.0", "0", "1e400"}) {
+    write(bad, time);
+    const CommandResult r = run_cli("compare-bench " + good + " " + bad);
+    EXPECT_EQ(r.status, 2) << time << "\n" << r.out;
+    // 1e400 fails in the JSON parser (overflow); the others name the field.
+    EXPECT_NE(r.out.find(std::string(time) == "1e400" ? "overflow" : "real_time"), std::string::npos) << r.out;
+  }
+}
+
 TEST(Cli, VersionQuietAndVerboseWorkEverywhere) {
   const CommandResult v = run_cli("--version");
   EXPECT_EQ(v.status, 0);

@@ -1,4 +1,5 @@
 #include "bench/scene_file.h"
+#include "scene_error.h"
 #include "bench/synth_run.h"
 
 #include <gtest/gtest.h>
@@ -48,6 +49,29 @@ TEST(Scene, EveryKindOfErrorNamesFileLineAndKey) {
   m = error_of("seed: 1\nbunches:\n  - preset: table-red\n    berry_count_min: 50\n    berry_count_max: 20\n");
   EXPECT_NE(m.find("berry_count_min must not exceed"), std::string::npos) << m;
   EXPECT_NE(m.find("scene.yaml:"), std::string::npos) << m;
+}
+
+// Issue 23's reproducers: yaml-cpp accepted these silently (the first duplicate won,
+// `!!str 5` was read as 5, a second document and a `name` holding a path were taken).
+TEST(Scene, StrictYamlAndSafeNames) {
+  const struct {
+    std::string yaml, message;
+  } cases[] = {
+      {"seed: 5\nseed: 999\nbunches:\n  - preset: table-red\n", "scene.yaml:2: 'seed' is given twice"},
+      {"seed: 5\nbunches:\n  - preset: table-red\n    count: 1\n    count: 2\n", "scene.yaml:5: 'count' is given twice"},
+      {"seed: !!str 5\nbunches:\n  - preset: table-red\n", "scene.yaml:1: explicit YAML tag"},
+      {"seed: 5\nbunches:\n  - preset: table-red\n---\nseed: 6\n", "scene.yaml:5: a second YAML document"},
+      {"seed: 5\n? [a, b]\n: 3\nbunches:\n  - preset: table-red\n", "scene.yaml:2: a key must be a plain name"},
+      {"name: ../../x\nseed: 5\nbunches:\n  - preset: table-red\n", "'../../x' is not a safe folder name"},
+      {"name: /tmp/x\nseed: 5\nbunches:\n  - preset: table-red\n", "'/tmp/x' is not a safe folder name"},
+      {"name: a b\nseed: 5\nbunches:\n  - preset: table-red\n", "'a b' is not a safe folder name"},
+      {"name: " + std::string(101, 'a') + "\nseed: 5\nbunches:\n  - preset: table-red\n", "is not a safe folder name"},
+  };
+  for (const auto& c : cases) {
+    const std::string error = scene_error(c.yaml);
+    EXPECT_NE(error.find(c.message), std::string::npos) << c.yaml << "\n-> " << error;
+  }
+  EXPECT_EQ(scene_error("name: seed004_green-2.b\nseed: 5\nbunches:\n  - preset: table-red\n"), "");
 }
 
 TEST(Scene, SensorRigAndBackgroundSectionsAreStrict) {
