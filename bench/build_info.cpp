@@ -1,4 +1,5 @@
 #include "bench/build_info.h"
+#include "bench/fnv1a.h"
 
 #include "grapebench_git_describe.h"  // generated at build time (cmake/git_describe.cmake)
 
@@ -18,6 +19,7 @@
 #include <cstdio>
 #include <fstream>
 #include <mutex>
+#include <vector>
 
 #ifndef GRAPEBENCH_VERSION
 #define GRAPEBENCH_VERSION "unknown"
@@ -36,15 +38,11 @@ namespace {
 std::string hash_file(const char* path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return "unknown";
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a 64
+  std::uint64_t h = kFnv1aOffset;
   std::vector<char> buf(1 << 20);
   while (in) {
     in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    const std::streamsize n = in.gcount();
-    for (std::streamsize i = 0; i < n; ++i) {
-      h ^= static_cast<unsigned char>(buf[static_cast<std::size_t>(i)]);
-      h *= 1099511628211ull;
-    }
+    h = fnv1a(std::string_view(buf.data(), static_cast<std::size_t>(in.gcount())), h);
   }
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "bench/build_info.h"
+#include "bench/fnv1a.h"
 #include "bench/heap_meter.h"
 #include "synth/io.h"
 
@@ -14,15 +15,6 @@ namespace {
 
 // Bump when the meaning of a case file changes, so old results are recomputed.
 constexpr const char* kCaseFormat = "grapebench-case-6";
-
-std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
 
 double truth_of(Quantity q, const GroundTruth& gt) {
   switch (q) {

@@ -1,5 +1,6 @@
 #include "bench/case_scores.h"
 
+#include "bench/fnv1a.h"
 #include "bench/size_error.h"
 #include "synth/rng.h"
 
@@ -10,15 +11,6 @@
 namespace grapebench {
 
 namespace {
-
-std::uint64_t text_hash(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a 64
-  for (unsigned char ch : s) {
-    h ^= ch;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
 
 std::string roi_of(const std::string& estimator) {
   const auto at = estimator.find('@');
@@ -43,7 +35,7 @@ std::vector<ComparisonRow> paired_comparisons(const SceneSet& set, const std::ve
         eb.push_back(it->second);
       }
       const std::uint64_t seed = derive_seed(set.conditions[static_cast<std::size_t>(a.condition)].scene.seed,
-                                             text_hash(a.estimator + "|" + b.estimator + "|" + a.quantity));
+                                             fnv1a(a.estimator + "|" + b.estimator + "|" + a.quantity));
       out.push_back({a.condition, a.quantity, a.estimator, b.estimator, compare_paired(ea, eb, seed)});
     }
   }
@@ -103,7 +95,7 @@ std::vector<ScoreRow> score_cases(const SceneSet& set, const std::vector<CaseRes
           row.quantity = qn;
           row.score = score(est, truth, n, secs);
           row.peak_heap_mb_max = heap;
-          const std::uint64_t seed = derive_seed(scene.seed, text_hash(set.conditions[c].label + "|" + row.estimator + "|" + qn));
+          const std::uint64_t seed = derive_seed(scene.seed, fnv1a(set.conditions[c].label + "|" + row.estimator + "|" + qn));
           row.intervals = bootstrap_score_intervals(est, truth, seed);
           row.concordance = concordance(est, truth);
           row.agreement = bland_altman(est, truth);

@@ -1,0 +1,20 @@
+// FNV-1a 64: the one hash of case keys, bootstrap seeds and the build identity.
+// `h` continues a hash over several pieces (a file read in chunks).
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+namespace grapebench {
+
+inline constexpr std::uint64_t kFnv1aOffset = 1469598103934665603ull;
+
+inline std::uint64_t fnv1a(std::string_view s, std::uint64_t h = kFnv1aOffset) {
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace grapebench
