@@ -2,10 +2,8 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <signal.h>
-#include <spawn.h>
 #include <sys/socket.h>
-#include <sys/wait.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -15,8 +13,8 @@
 #include <fstream>
 #include <mutex>
 #include <sstream>
-#include <thread>
 
+#include "algorithms/confined_program.h"
 #include "algorithms/temp_folder.h"
 #include "synth/png.h"
 
@@ -139,64 +137,77 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
   throw InputError("external estimator '" + p.command[0] + "': " + why);
 }
 
-// posix_spawnp of `args` in a process group of its own, with the given fd actions.
-pid_t spawn(const ExternalParams& p, std::vector<std::string> args, posix_spawn_file_actions_t& fa) {
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
-  posix_spawnattr_setpgroup(&attr, 0);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0], &fa, &attr, argv.data(), environ);
-  posix_spawnattr_destroy(&attr);
-  if (rc != 0) fail(p, std::string("cannot start: ") + std::strerror(rc));
-  return pid;
+ProgramLimits limits_of(const ExternalParams& p) {
+  ProgramLimits l;
+  l.sandbox = p.sandbox;
+  l.cpu_seconds = p.cpu_limit;
+  l.memory_mb = p.memory_limit;
+  l.file_mb = p.file_limit;
+  return l;
 }
 
-void kill_group(pid_t pid) {
-  kill(-pid, SIGKILL);
-  int status = 0;
-  waitpid(pid, &status, 0);
+std::unique_ptr<ConfinedProgram> start(const ExternalParams& p, const std::vector<std::string>& args,
+                                       const fs::path& work, int stdio) {
+  try {
+    return std::make_unique<ConfinedProgram>(args, work, limits_of(p), stdio);
+  } catch (const std::runtime_error& e) {
+    fail(p, e.what());
+  }
 }
 
-// Per-request mode: the program gets the request file's path and writes answer.json.
+// Why a stopped or failed program failed, with the tail of its stderr.
+[[noreturn]] void fail_ended(const ExternalParams& p, ConfinedProgram::End end, const ConfinedProgram& prog,
+                             const std::string& what) {
+  if (end == ConfinedProgram::End::TimedOut)
+    fail(p, "killed after the timeout of " + std::to_string(p.timeout) + " s" + what);
+  if (end == ConfinedProgram::End::TooMuchOutput) fail(p, "stopped: more than 16 MiB on stdout and stderr" + what);
+  const std::string why = prog.failure();
+  std::string text = "failed (" + (why.empty() ? std::string("exited") : why) + ")" + what;
+  const std::string tail = prog.error_tail();
+  if (!tail.empty()) text += ": " + tail;
+  if (p.sandbox == ProgramLimits::Sandbox::Bwrap && tail.rfind("bwrap:", 0) == 0)
+    text += " (bubblewrap cannot run here: set `sandbox: none` to run the program without it)";
+  fail(p, text);
+}
+
+// The answer file, read within its size cap: a regular file only (a FIFO or device
+// left at its path would block), not followed through a symbolic link.
+std::string read_answer_file(const ExternalParams& p, const fs::path& path) {
+  const int fd = open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) fail(p, errno == ENOENT ? "wrote no answer.json" : "answer.json cannot be opened: " + std::string(std::strerror(errno)));
+  struct stat st {};
+  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    close(fd);
+    fail(p, "answer.json is not a regular file");
+  }
+  if (static_cast<std::size_t>(st.st_size) > kMaxAnswerBytes) {
+    close(fd);
+    fail(p, "answer.json is larger than 256 MiB");
+  }
+  std::string text(static_cast<std::size_t>(st.st_size), '\0');
+  std::size_t got = 0;
+  while (got < text.size()) {
+    const ssize_t k = read(fd, text.data() + got, text.size() - got);
+    if (k <= 0) break;
+    got += static_cast<std::size_t>(k);
+  }
+  close(fd);
+  text.resize(got);
+  return text;
+}
+
+// Per-request mode: the program gets the request file's path and writes answer.json
+// in its work folder (the only one it may write).
 nlohmann::json run_once(const fs::path& dir, const ExternalParams& p) {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  const std::string out_path = (dir / "stdout.txt").string(), err_path = (dir / "stderr.txt").string();
-  posix_spawn_file_actions_addopen(&fa, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&fa, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   std::vector<std::string> args = p.command;
   args.push_back((dir / "request.json").string());
-  const pid_t pid = spawn(p, args, fa);
-  posix_spawn_file_actions_destroy(&fa);
-  const auto t0 = Clock::now();
-  int status = 0;
-  for (;;) {
-    const pid_t w = waitpid(pid, &status, WNOHANG);
-    if (w == pid) break;
-    if (w < 0) fail(p, "waitpid failed: " + std::string(std::strerror(errno)));
-    if (std::chrono::duration<double>(Clock::now() - t0).count() > p.timeout) {
-      kill_group(pid);
-      fail(p, "killed after the timeout of " + std::to_string(p.timeout) + " s");
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  kill(-pid, SIGKILL);  // nothing of the program outlives its answer
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    const std::string why = WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
-                                              : "signal " + std::to_string(WTERMSIG(status));
-    fail(p, "failed (" + why + "): " + file_tail(err_path, 400));
-  }
-  const fs::path answer = dir / "answer.json";
-  std::error_code ec;
-  if (!fs::is_regular_file(answer, ec)) fail(p, "wrote no answer.json");
-  if (fs::file_size(answer, ec) > kMaxAnswerBytes) fail(p, "answer.json is larger than 256 MiB");
-  std::ifstream in(answer, std::ios::binary);
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(p.timeout));
+  auto prog = start(p, args, dir, -1);
+  const ConfinedProgram::End end = prog->wait(deadline);
+  if (end != ConfinedProgram::End::Exited || !prog->failure().empty()) fail_ended(p, end, *prog, "");
+  const std::string text = read_answer_file(p, dir / "answer.json");
   try {
-    return nlohmann::json::parse(in);
+    return nlohmann::json::parse(text);
   } catch (const std::exception& e) {
     fail(p, std::string("answer.json is not JSON: ") + e.what());
   }
@@ -212,13 +223,7 @@ class PersistentPrograms {
   ~PersistentPrograms() {
     for (auto& proc : idle_) {
       shutdown(proc->fd, SHUT_WR);  // end of stdin: a well-behaved program exits
-      const auto t0 = Clock::now();
-      int status = 0;
-      while (waitpid(proc->pid, &status, WNOHANG) == 0 &&
-             std::chrono::duration<double>(Clock::now() - t0).count() < 2) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      }
-      kill_group(proc->pid);
+      proc->program->wait(Clock::now() + std::chrono::seconds(2));  // then it is stopped
       close(proc->fd);
     }
   }
@@ -227,10 +232,11 @@ class PersistentPrograms {
 
   nlohmann::json ask(const nlohmann::ordered_json& request) {
     std::unique_ptr<Process> proc = take();
-    const auto t0 = Clock::now();
+    const auto deadline =
+        Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(p_.timeout));
     try {
-      send_line(*proc, request.dump() + "\n", t0);
-      nlohmann::json answer = nlohmann::json::parse(read_line(*proc, t0));
+      send_line(*proc, request.dump() + "\n", deadline);
+      nlohmann::json answer = nlohmann::json::parse(read_line(*proc, deadline));
       give_back(std::move(proc));
       return answer;
     } catch (const nlohmann::json::exception& e) {
@@ -244,10 +250,10 @@ class PersistentPrograms {
 
  private:
   struct Process {
-    pid_t pid = 0;
-    int fd = -1;                   // our end of the socket that is the program's stdin and stdout
-    std::string buffer;            // bytes read past the last answer line
-    std::unique_ptr<TempFolder> dir;  // its stderr
+    std::unique_ptr<TempFolder> dir;  // its work folder
+    std::unique_ptr<ConfinedProgram> program;
+    int fd = -1;         // our end of the socket that is the program's stdin and stdout
+    std::string buffer;  // bytes read past the last answer line
   };
 
   std::unique_ptr<Process> take() {
@@ -263,21 +269,13 @@ class PersistentPrograms {
     proc->dir = std::make_unique<TempFolder>("grapebench-ext");
     int sv[2];
     if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) fail(p_, "socketpair failed");
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, sv[1], 0);
-    posix_spawn_file_actions_adddup2(&fa, sv[1], 1);
-    const std::string err = (proc->dir->path / "stderr.txt").string();
-    posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     try {
-      proc->pid = spawn(p_, p_.command, fa);
+      proc->program = start(p_, p_.command, proc->dir->path, sv[1]);
     } catch (...) {
-      posix_spawn_file_actions_destroy(&fa);
       close(sv[0]);
       close(sv[1]);
       throw;
     }
-    posix_spawn_file_actions_destroy(&fa);
     close(sv[1]);
     proc->fd = sv[0];
     return proc;
@@ -287,30 +285,26 @@ class PersistentPrograms {
     idle_.push_back(std::move(proc));
   }
   void discard(Process& proc) {
-    kill_group(proc.pid);
+    proc.program->stop();
     close(proc.fd);
+    proc.fd = -1;
   }
-  double left(Clock::time_point t0) const {
-    return p_.timeout - std::chrono::duration<double>(Clock::now() - t0).count();
+  // Waits for `events` on the socket within the request's time; fails when the program
+  // ends, is stopped or runs out of time (the caller discards the process on any
+  // failure).
+  void wait_for(Process& proc, short events, Clock::time_point deadline, const char* what) {
+    const ConfinedProgram::End end = proc.program->wait_fd(proc.fd, events, deadline);
+    if (end != ConfinedProgram::End::Ready) fail_ended(p_, end, *proc.program, std::string(" (persistent) ") + what);
   }
-  // Waits for `events` on the socket within the request's time; fails on timeout (the
-  // caller discards the process on any failure).
-  void wait_for(Process& proc, short events, Clock::time_point t0) {
-    pollfd pfd{proc.fd, events, 0};
-    const double s = left(t0);
-    if (s <= 0 || poll(&pfd, 1, static_cast<int>(std::ceil(s * 1000))) == 0) {
-      fail(p_, "killed after the timeout of " + std::to_string(p_.timeout) + " s (persistent)");
-    }
-  }
-  void send_line(Process& proc, const std::string& line, Clock::time_point t0) {
+  void send_line(Process& proc, const std::string& line, Clock::time_point deadline) {
     for (std::size_t sent = 0; sent < line.size();) {
-      wait_for(proc, POLLOUT, t0);
+      wait_for(proc, POLLOUT, deadline, "before reading its request");
       const ssize_t k = ::send(proc.fd, line.data() + sent, line.size() - sent, MSG_NOSIGNAL);
-      if (k <= 0) fail(p_, "stopped reading requests: " + file_tail(proc.dir->path / "stderr.txt", 400));
+      if (k <= 0) ended(proc, deadline, "stopped reading requests");
       sent += static_cast<std::size_t>(k);
     }
   }
-  std::string read_line(Process& proc, Clock::time_point t0) {
+  std::string read_line(Process& proc, Clock::time_point deadline) {
     for (;;) {
       const auto nl = proc.buffer.find('\n');
       if (nl != std::string::npos) {
@@ -319,12 +313,19 @@ class PersistentPrograms {
         return line;
       }
       if (proc.buffer.size() > kMaxAnswerBytes) fail(p_, "an answer line longer than 256 MiB");
-      wait_for(proc, POLLIN, t0);
+      wait_for(proc, POLLIN, deadline, "before answering");
       char chunk[65536];
       const ssize_t k = ::read(proc.fd, chunk, sizeof chunk);
-      if (k <= 0) fail(p_, "exited before answering: " + file_tail(proc.dir->path / "stderr.txt", 400));
+      if (k <= 0) ended(proc, deadline, "exited before answering");
       proc.buffer.append(chunk, static_cast<std::size_t>(k));
     }
+  }
+  // The program closed its end: waits (briefly) for its end to say why.
+  [[noreturn]] void ended(Process& proc, Clock::time_point deadline, const std::string& what) {
+    const auto end = proc.program->wait(std::min(deadline, Clock::now() + std::chrono::seconds(2)));
+    const std::string why = proc.program->failure(), tail = proc.program->error_tail();
+    if (end != ConfinedProgram::End::Exited) fail_ended(p_, end, *proc.program, " (persistent) " + what);
+    fail(p_, what + (why.empty() ? "" : " (" + why + ")") + (tail.empty() ? "" : ": " + tail));
   }
 
   ExternalParams p_;
@@ -432,6 +433,12 @@ const ParamTable<ExternalParams>& external_param_table() {
           .strings("command", &P::command, 1, "the program and its arguments, e.g. [python3, \"{scene_dir}/my.py\"]")
           .required()
           .real("timeout", "s", &P::timeout, 0.1, 86400, "the whole exchange of one request; then the group is killed")
+          .choice("sandbox", &P::sandbox, {{"bwrap", ProgramLimits::Sandbox::Bwrap}, {"none", ProgramLimits::Sandbox::None}},
+                  "bwrap: bubblewrap, read-only file system but its work folder, no network, its own PIDs; none: "
+                  "only the limits below and the cleanup (where user namespaces are not available)")
+          .real("cpu_limit", "s", &P::cpu_limit, 1, 86400, "CPU time of each of its processes (RLIMIT_CPU)")
+          .real("memory_limit", "MB", &P::memory_limit, 64, 1e7, "address space of each of its processes (RLIMIT_AS)")
+          .real("file_limit", "MB", &P::file_limit, 1, 1e7, "largest file it may write (RLIMIT_FSIZE)")
           .integer("version", "-", &P::version, 1, 2,
                    "protocol version: 1 (x y z, scalars) or 2 (every attribute and output kind)")
           .boolean("persistent", &P::persistent, "one process answers many requests as JSON lines on stdin/stdout")

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/confined_program.h"
 #include "algorithms/estimate.h"
 #include "synth/param_table.h"
 
@@ -22,7 +23,12 @@ struct ExternalParams {
   // request file's path is appended as the last argument.
   std::vector<std::string> command;
   std::vector<Quantity> quantities{Quantity::Volume};  // what the answer must hold
-  double timeout = 300;  // s, [0.1, 86400], the whole exchange of one request; then the program's group is killed
+  double timeout = 300;  // s, [0.1, 86400], the whole exchange of one request; then it and all it started are killed
+  // Confinement (algorithms/confined_program.h): the sandbox and per-process limits.
+  ProgramLimits::Sandbox sandbox = ProgramLimits::Sandbox::Bwrap;
+  double cpu_limit = 3600;    // s
+  double memory_limit = 8192;  // MB of address space
+  double file_limit = 1024;    // MB
   // 1: grapebench-estimator-1 (x y z only, a scalar answer; the default, so programs
   // written for it keep working); 2: grapebench-estimator-2 (every per-point attribute
   // and the views or frame; every output kind).

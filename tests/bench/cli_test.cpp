@@ -10,6 +10,8 @@
 #include <sstream>
 #include <memory>
 #include <string>
+#include <thread>
+#include <unistd.h>
 
 namespace grapebench {
 namespace {
@@ -172,6 +174,64 @@ TEST(Cli, ACaseFileWithForeignIndicesIsRecomputedNotTrusted) {
     EXPECT_EQ(again.status, 0) << value << "\n" << again.out;
     EXPECT_NE(again.out.find("2 cases: 1 computed, 1 reused"), std::string::npos) << value << "\n" << again.out;
   }
+}
+
+// Issue 23's reproducer: a hostile external program writes outside its folder, edits
+// the run's case files and results (it knows --out), leaves a daemon that appends to
+// results.csv after the run, and floods stderr. Under bubblewrap none of it lands and
+// nothing of it survives the run.
+TEST(Cli, AHostileExternalProgramChangesNothingAndLeavesNothingRunning) {
+  if (std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
+  namespace fs = std::filesystem;
+  const fs::path dir = "/tmp/grapebench_cli_hostile", out = dir / "out", outside = dir / "outside";
+  fs::remove_all(dir);
+  fs::create_directories(outside);
+  const std::string marker = "gbhostile" + std::to_string(getpid());
+  const std::string attack =
+      "echo forged > " + (outside / "forged.txt").string() + "; " +
+      "for f in " + out.string() + "/hostile/cases/*.json " + out.string() + "/hostile/results.csv; do "
+      "echo forged >> $f; done; tr '\\\\0' ' ' < /proc/$PPID/cmdline > /dev/null; "
+      "setsid sh -c 'sleep 0.5; while :; do echo forged >> " + out.string() + "/hostile/results.csv; sleep 0.1; done' " +
+      marker + " & ";
+  std::ofstream(dir / "hostile.yaml")
+      << "name: hostile\nseed: 3\nbunches:\n  - preset: table-red\n    count: 2\n"
+         "sensor:\n  type: ideal\n  width: 160\n  height: 120\n"
+         "rig:\n  type: turntable\n  views: 4\n  step_deg: 90\n  distance: 0.6\n"
+         "pipeline:\n  registration: true_poses\nestimators:\n  - type: convex_hull\n    name: CH\n"
+         "  - type: external\n    name: sly\n    command: [/bin/sh, -c, \""
+      << attack << "echo '{\\\"volume\\\": 0.001}' > $(dirname $0)/answer.json\"]\n"
+      << "  - type: external\n    name: loud\n    command: [/bin/sh, -c, \"" << attack
+      << "head -c 40000000 /dev/zero | tr '\\\\0' x >&2\"]\n";
+  // A first run leaves case files; the second (a new estimator order would not
+  // matter) runs the programs again with those files present.
+  const CommandResult first = run_cli("run " + (dir / "hostile.yaml").string() + " --out " + out.string() + " -q");
+  ASSERT_EQ(first.status, 0) << first.out;
+  fs::remove_all(out / "hostile" / "cases" / "c0000_b0001.json");
+  const CommandResult second = run_cli("run " + (dir / "hostile.yaml").string() + " --out " + out.string() + " -q");
+  ASSERT_EQ(second.status, 0) << second.out;
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // a surviving daemon would append by now
+  EXPECT_FALSE(fs::exists(outside / "forged.txt"));
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    if (!e.is_regular_file()) continue;
+    std::ifstream in(e.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_EQ(text.str().find("forged\n"), std::string::npos) << e.path();  // the manifest quotes the scene
+  }
+  std::ifstream csv(out / "hostile" / "results.csv");
+  std::stringstream rows;
+  rows << csv.rdbuf();
+  EXPECT_NE(rows.str().find("more than 16 MiB on stdout and stderr"), std::string::npos) << rows.str();
+  EXPECT_NE(rows.str().find(",sly,external,volume,cm3,1000,"), std::string::npos) << rows.str();
+  int survivors = 0;
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    std::ifstream in(e.path() / "cmdline", std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    if (s.str().find(marker) != std::string::npos) ++survivors;
+  }
+  EXPECT_EQ(survivors, 0);
 }
 
 // Issue 23's reproducers: `--threshold nan` turned the gate off and negative times

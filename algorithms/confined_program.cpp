@@ -1,0 +1,335 @@
+#include "algorithms/confined_program.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pthread.h>
+#include <signal.h>
+#include <sys/syscall.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+extern char** environ;
+
+namespace grapebench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Everything the warden needs, prepared before fork(): after it only
+// async-signal-safe calls are made (the harness has other threads).
+struct WardenPlan {
+  const char* exec_path = nullptr;
+  std::vector<char*> argv;
+  const char* work_dir = nullptr;
+  int in = -1, out = -1, err = -1, status = -1;  // become fds 0, 1, 2 and 3
+  rlimit cpu{}, memory{}, file{};
+};
+
+volatile sig_atomic_t g_stop = 0;  // the warden's: the harness asked it to stop
+void on_stop(int) { g_stop = 1; }
+
+void write_text(int fd, const char* s) {
+  const ssize_t ignored = write(fd, s, std::strlen(s));
+  (void)ignored;
+}
+
+// Kills the warden's children until none is left: a subreaper inherits the orphans of
+// what it started, so daemons come back to it as their parents die.
+void kill_descendants() {
+  for (;;) {
+    char buf[4096];
+    const int fd = open("/proc/thread-self/children", O_RDONLY | O_CLOEXEC);
+    const ssize_t n = fd >= 0 ? read(fd, buf, sizeof buf - 1) : -1;
+    if (fd >= 0) close(fd);
+    for (ssize_t i = 0; i < n;) {
+      pid_t pid = 0;
+      while (i < n && buf[i] >= '0' && buf[i] <= '9') pid = pid * 10 + (buf[i++] - '0');
+      if (pid > 0) kill(pid, SIGKILL);
+      while (i < n && (buf[i] < '0' || buf[i] > '9')) ++i;
+    }
+    int st = 0;
+    const pid_t r = waitpid(-1, &st, WNOHANG);
+    if (r > 0) continue;
+    if (r < 0 && errno == ECHILD) return;
+    const timespec ms{0, 1000000};
+    nanosleep(&ms, nullptr);
+  }
+}
+
+// A high descriptor copy of fd (so that moving it to 0..3 cannot overwrite another).
+int lift(int fd) { return fd < 0 ? -1 : fcntl(fd, F_DUPFD, 10); }
+
+[[noreturn]] void warden_main(const WardenPlan& p) {
+  setsid();  // its own session and process group: nothing reaches the harness's terminal
+  prctl(PR_SET_CHILD_SUBREAPER, 1);
+  struct sigaction sa {};
+  sa.sa_handler = on_stop;  // no SA_RESTART: waitpid returns EINTR
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGTERM, &sa, nullptr);
+  int in = lift(p.in);
+  if (in < 0) in = open("/dev/null", O_RDONLY);
+  const int out = lift(p.out), err = lift(p.err), status = lift(p.status);
+  if (in < 0 || out < 0 || err < 0 || status < 0) _exit(126);
+  dup2(in, 0);
+  dup2(out, 1);
+  dup2(err, 2);
+  dup2(status, 3);
+  close_range(4, ~0U, 0);  // none of the harness's files (sockets of other programs) leak
+  fcntl(3, F_SETFD, FD_CLOEXEC);
+  sigset_t none;
+  sigemptyset(&none);
+  sigprocmask(SIG_SETMASK, &none, nullptr);
+  const pid_t prog = fork();
+  if (prog == 0) {
+    signal(SIGTERM, SIG_DFL);
+    setrlimit(RLIMIT_CPU, &p.cpu);
+    setrlimit(RLIMIT_AS, &p.memory);
+    setrlimit(RLIMIT_FSIZE, &p.file);
+    if (chdir(p.work_dir) != 0) _exit(126);
+    execve(p.exec_path, p.argv.data(), environ);
+    write_text(2, "grapebench: cannot execute ");
+    write_text(2, p.exec_path);
+    write_text(2, "\n");
+    _exit(127);
+  }
+  int st = 126 << 8;  // exit status 126: the program could not be started
+  if (prog > 0) {
+    for (;;) {
+      const pid_t r = waitpid(prog, &st, 0);
+      if (r == prog) break;
+      if (r < 0 && errno != EINTR) break;
+      if (g_stop) kill(prog, SIGKILL);
+    }
+  }
+  kill_descendants();
+  const ssize_t ignored = write(3, &st, sizeof st);
+  (void)ignored;
+  _exit(0);
+}
+
+// Soft limit v, hard limit a little above: the soft one sends SIGXCPU or fails the
+// write with SIGXFSZ, so the reason can be told; the hard one is SIGKILL.
+rlimit limit_of(double v, double slack) {
+  const rlim_t r = static_cast<rlim_t>(std::ceil(v));
+  return rlimit{r, static_cast<rlim_t>(std::ceil(v + slack))};
+}
+
+}  // namespace
+
+std::string find_program(const std::string& name) {
+  if (name.empty()) return "";
+  if (name.find('/') != std::string::npos) {
+    std::error_code ec;
+    const fs::path p = fs::absolute(name, ec);
+    return !ec && access(p.c_str(), X_OK) == 0 && fs::is_regular_file(p, ec) ? p.string() : "";
+  }
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "/usr/local/bin:/usr/bin:/bin";
+  for (std::size_t start = 0; start <= dirs.size();) {
+    std::size_t end = dirs.find(':', start);
+    if (end == std::string::npos) end = dirs.size();
+    const std::string dir = end > start ? dirs.substr(start, end - start) : ".";
+    const fs::path p = fs::path(dir) / name;
+    std::error_code ec;
+    if (access(p.c_str(), X_OK) == 0 && fs::is_regular_file(p, ec)) return fs::absolute(p, ec).string();
+    start = end + 1;
+  }
+  return "";
+}
+
+ConfinedProgram::ConfinedProgram(const std::vector<std::string>& argv, const fs::path& work_dir,
+                                 const ProgramLimits& limits, int stdio)
+    : output_cap_(limits.output_bytes) {
+  if (argv.empty()) throw std::runtime_error("empty command");
+  const std::string program = find_program(argv[0]);
+  if (program.empty()) throw std::runtime_error("cannot start '" + argv[0] + "': not an executable file in PATH");
+  const std::string work = fs::absolute(work_dir).string();
+  std::vector<std::string> args;
+  if (limits.sandbox == ProgramLimits::Sandbox::Bwrap) {
+    const std::string bwrap = find_program("bwrap");
+    if (bwrap.empty()) {
+      throw std::runtime_error(
+          "bubblewrap (bwrap) is not installed: run scripts/setup.sh, or set `sandbox: none` to run the program "
+          "without the sandbox");
+    }
+    args = {bwrap,          "--ro-bind", "/",      "/",       "--dev",           "/dev",           "--proc",
+            "/proc",        "--bind",    work,     work,      "--chdir",         work,             "--unshare-all",
+            "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--setenv", "TMPDIR", work, "--", program};
+  } else {
+    args = {program};
+  }
+  args.insert(args.end(), argv.begin() + 1, argv.end());
+
+  WardenPlan plan;
+  plan.exec_path = args[0].c_str();
+  for (auto& a : args) plan.argv.push_back(a.data());
+  plan.argv.push_back(nullptr);
+  plan.work_dir = work.c_str();
+  plan.cpu = limit_of(limits.cpu_seconds, 2);
+  plan.memory = limit_of(limits.memory_mb * 1e6, 0);
+  plan.file = limit_of(limits.file_mb * 1e6, 0);
+  bwrap_ = limits.sandbox == ProgramLimits::Sandbox::Bwrap;
+  int out_pipe[2] = {-1, -1}, err_pipe[2] = {-1, -1}, status_pipe[2] = {-1, -1};
+  const auto close_all = [&] {
+    for (int fd : {out_pipe[0], out_pipe[1], err_pipe[0], err_pipe[1], status_pipe[0], status_pipe[1]})
+      if (fd >= 0) close(fd);
+  };
+  if ((stdio < 0 && pipe2(out_pipe, O_CLOEXEC) != 0) || pipe2(err_pipe, O_CLOEXEC) != 0 ||
+      pipe2(status_pipe, O_CLOEXEC) != 0) {
+    close_all();
+    throw std::runtime_error(std::string("cannot make pipes: ") + std::strerror(errno));
+  }
+  plan.in = stdio;
+  plan.out = stdio >= 0 ? stdio : out_pipe[1];
+  plan.err = err_pipe[1];
+  plan.status = status_pipe[1];
+  // SIGTERM is the harness's "stop" to the warden: blocked until its handler is set.
+  sigset_t term, old;
+  sigemptyset(&term);
+  sigaddset(&term, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &term, &old);
+  const pid_t pid = fork();
+  if (pid == 0) warden_main(plan);
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  if (pid < 0) {
+    close_all();
+    throw std::runtime_error(std::string("cannot fork: ") + std::strerror(errno));
+  }
+  warden_ = pid;
+  for (int fd : {out_pipe[1], err_pipe[1], status_pipe[1]})
+    if (fd >= 0) close(fd);
+  out_ = out_pipe[0];
+  err_ = err_pipe[0];
+  status_fd_ = status_pipe[0];
+  pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));  // glibc 2.36's wrapper lacks C linkage
+  if (pidfd_ < 0) {  // Linux >= 5.3; without it the warden's end cannot be polled
+    kill(-pid, SIGKILL);
+    kill(pid, SIGKILL);
+    const int e = errno;
+    reap();
+    for (int fd : {out_, err_, status_fd_})
+      if (fd >= 0) close(fd);
+    throw std::runtime_error(std::string("pidfd_open failed: ") + std::strerror(e));
+  }
+}
+
+ConfinedProgram::~ConfinedProgram() {
+  stop();
+  for (int fd : {out_, err_, pidfd_, status_fd_})
+    if (fd >= 0) close(fd);
+}
+
+bool ConfinedProgram::read_output() {
+  for (int* fd : {&out_, &err_}) {
+    if (*fd < 0) continue;
+    pollfd p{*fd, POLLIN, 0};
+    if (poll(&p, 1, 0) <= 0) continue;
+    char chunk[65536];
+    const ssize_t k = read(*fd, chunk, sizeof chunk);
+    if (k <= 0) {
+      close(*fd);
+      *fd = -1;
+      continue;
+    }
+    output_read_ += static_cast<std::size_t>(k);
+    if (fd == &err_) {
+      err_tail_.append(chunk, static_cast<std::size_t>(k));
+      if (err_tail_.size() > 4096) err_tail_.erase(0, err_tail_.size() - 2048);
+    }
+  }
+  return output_read_ <= output_cap_;
+}
+
+void ConfinedProgram::reap() {
+  int ws = 0;
+  while (waitpid(warden_, &ws, 0) < 0 && errno == EINTR) {
+  }
+  int st = 0;
+  status_ = read(status_fd_, &st, sizeof st) == static_cast<ssize_t>(sizeof st) ? st : ws;
+  ended_ = true;
+}
+
+ConfinedProgram::End ConfinedProgram::wait_fd(int fd, short events, Clock::time_point deadline) {
+  if (ended_ && fd >= 0) {
+    pollfd p{fd, events, 0};
+    if (poll(&p, 1, 0) > 0) return End::Ready;
+  }
+  while (!ended_) {
+    pollfd fds[4] = {{fd, events, 0}, {out_, POLLIN, 0}, {err_, POLLIN, 0}, {pidfd_, POLLIN, 0}};
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    if (left <= 0) {
+      stop();
+      return End::TimedOut;
+    }
+    if (poll(fds, 4, static_cast<int>(std::min<long long>(left, 1000))) < 0 && errno != EINTR) {
+      stop();
+      return End::Exited;
+    }
+    if (fd >= 0 && fds[0].revents) return End::Ready;
+    if ((fds[1].revents || fds[2].revents) && !read_output()) {
+      stop();
+      return End::TooMuchOutput;
+    }
+    if (fds[3].revents) reap();
+  }
+  // Everything it started is dead: its pipes end after what is in them.
+  while ((out_ >= 0 || err_ >= 0) && read_output()) {
+  }
+  return End::Exited;
+}
+
+ConfinedProgram::End ConfinedProgram::wait(Clock::time_point deadline) { return wait_fd(-1, 0, deadline); }
+
+void ConfinedProgram::stop() {
+  if (ended_ || warden_ < 0) return;
+  kill(warden_, SIGTERM);
+  pollfd p{pidfd_, POLLIN, 0};
+  if (poll(&p, 1, 3000) <= 0) {  // a warden that does not answer: kill its group
+    kill(-warden_, SIGKILL);
+    kill(warden_, SIGKILL);
+  }
+  reap();
+}
+
+std::string ConfinedProgram::failure() const {
+  if (status_ < 0) return "still running";
+  int sig = WIFSIGNALED(status_) ? WTERMSIG(status_) : 0;
+  if (WIFEXITED(status_)) {
+    const int code = WEXITSTATUS(status_);
+    if (code == 0) return "";
+    if (bwrap_ && code > 128 && code < 128 + 65) sig = code - 128;  // bwrap exits 128 + the signal that ended its child
+  }
+  if (WIFEXITED(status_) && sig == 0) {
+    const int code = WEXITSTATUS(status_);
+    if (code == 126 || code == 127) return "exit status " + std::to_string(code) + " (it could not be executed)";
+    return "exit status " + std::to_string(code);
+  }
+  if (sig != 0) {
+    std::string why = "killed by signal " + std::to_string(sig);
+    if (sig == SIGXCPU) why += " (over its CPU time limit)";
+    if (sig == SIGKILL) why += " (over its CPU time limit, or stopped)";
+    if (sig == SIGXFSZ) why += " (a file over its size limit)";
+    if (sig == SIGSEGV || sig == SIGABRT || sig == SIGBUS) why += " (a crash, or out of its memory limit)";
+    return why;
+  }
+  return "wait status " + std::to_string(status_);
+}
+
+std::string ConfinedProgram::error_tail() const {
+  std::string s = err_tail_;
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ' || s.back() == '\r')) s.pop_back();
+  if (s.size() > 400) s = "..." + s.substr(s.size() - 400);
+  return s;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,149 @@
+// Hostile programs against the confinement: daemons that leave their process group,
+// floods of stderr, writes outside the work folder, a look at the harness through
+// /proc, the network, and the resource limits; with bubblewrap and without.
+#include "algorithms/confined_program.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace grapebench {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = ConfinedProgram::Clock;
+using Sandbox = ProgramLimits::Sandbox;
+
+// A fresh folder for one test (its own name, this process's pid).
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("gb-confined-" + name + "-" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// Processes whose command line holds `marker` (the tests' daemons carry one).
+int processes_with(const std::string& marker) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(e.path() / "cmdline", std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    if (s.str().find(marker) != std::string::npos) ++n;
+  }
+  return n;
+}
+
+bool bwrap_runs() {
+  return std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") == 0;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class Confined : public ::testing::TestWithParam<Sandbox> {
+ protected:
+  void SetUp() override {
+    if (GetParam() == Sandbox::Bwrap && !bwrap_runs())
+      GTEST_SKIP() << "bwrap cannot make namespaces on this machine (the `sandbox: none` cases still run)";
+    limits.sandbox = GetParam();
+  }
+  std::unique_ptr<ConfinedProgram> shell(const std::string& script, const fs::path& work) {
+    return std::make_unique<ConfinedProgram>(std::vector<std::string>{"/bin/sh", "-c", script}, work, limits);
+  }
+  ProgramLimits limits;
+};
+
+TEST_P(Confined, NothingItStartedSurvivesItsEnd) {
+  const fs::path work = fresh_dir("survive");
+  const std::string marker = "gbdaemon" + std::to_string(getpid()) + "a";
+  // A daemon in a session of its own (out of the program's group), then a plain exit.
+  auto prog = shell("setsid sh -c 'while :; do sleep 0.05; done' " + marker + " & sleep 0.2; exit 0", work);
+  ASSERT_EQ(prog->wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::Exited);
+  EXPECT_EQ(prog->failure(), "");
+  EXPECT_EQ(processes_with(marker), 0);
+}
+
+TEST_P(Confined, TimeoutStopsTheWholeTree) {
+  const fs::path work = fresh_dir("timeout");
+  const std::string marker = "gbdaemon" + std::to_string(getpid()) + "b";
+  auto prog = shell("setsid sh -c 'while :; do sleep 0.05; done' " + marker + " & exec sleep 30", work);
+  const auto t0 = Clock::now();
+  EXPECT_EQ(prog->wait(Clock::now() + std::chrono::milliseconds(500)), ConfinedProgram::End::TimedOut);
+  EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 5);
+  EXPECT_EQ(processes_with(marker), 0);
+}
+
+TEST_P(Confined, StderrFloodIsStoppedAtTheCapWithItsTail) {
+  const fs::path work = fresh_dir("flood");
+  limits.output_bytes = 1 << 20;
+  auto prog = shell("yes flooding >&2", work);
+  EXPECT_EQ(prog->wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::TooMuchOutput);
+  EXPECT_NE(prog->error_tail().find("flooding"), std::string::npos);
+  EXPECT_LE(prog->error_tail().size(), 403u);
+}
+
+TEST_P(Confined, FileSizeAndCpuLimitsKillWithTheReason) {
+  const fs::path work = fresh_dir("limits");
+  limits.file_mb = 1;
+  auto big = shell("exec head -c 3000000 /dev/zero > big", work);
+  ASSERT_EQ(big->wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::Exited);
+  EXPECT_NE(big->failure().find("size limit"), std::string::npos) << big->failure();
+  EXPECT_LE(fs::file_size(work / "big"), 1000000u);
+  limits.cpu_seconds = 1;
+  auto spin = shell("while :; do :; done", work);
+  ASSERT_EQ(spin->wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::Exited);
+  EXPECT_NE(spin->failure().find("CPU time limit"), std::string::npos) << spin->failure();
+}
+
+std::string sandbox_name(const ::testing::TestParamInfo<Sandbox>& p) { return p.param == Sandbox::Bwrap ? "bwrap" : "none"; }
+INSTANTIATE_TEST_SUITE_P(BothSandboxes, Confined, ::testing::Values(Sandbox::Bwrap, Sandbox::None), sandbox_name);
+
+// Under bubblewrap: writes outside the work folder fail, the harness is not visible
+// in /proc, and there is no network but loopback.
+TEST(ConfinedBwrap, WritesStayInTheWorkFolderAndTheHarnessIsOutOfSight) {
+  if (!bwrap_runs()) GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
+  const fs::path work = fresh_dir("bwrap-work"), outside = fresh_dir("bwrap-outside");
+  const std::string script = "echo forged > '" + (outside / "forged").string() + "'; echo forged > /tmp/gb-forged-" +
+                             std::to_string(getpid()) +
+                             "; cat /proc/$PPID/cmdline /proc/1/cmdline > seen.txt; "
+                             "grep -c : /proc/net/dev > interfaces.txt; ls /proc | grep -c '^[0-9]' > pids.txt; "
+                             "echo inside > ok";
+  ProgramLimits limits;
+  ConfinedProgram prog({"/bin/sh", "-c", script}, work, limits);
+  ASSERT_EQ(prog.wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::Exited);
+  EXPECT_EQ(read_text(work / "ok"), "inside\n");
+  EXPECT_FALSE(fs::exists(outside / "forged"));
+  EXPECT_FALSE(fs::exists("/tmp/gb-forged-" + std::to_string(getpid())));
+  EXPECT_EQ(read_text(work / "seen.txt").find("algorithms_tests"), std::string::npos);  // the harness
+  EXPECT_EQ(read_text(work / "interfaces.txt"), "1\n");                         // lo only
+  EXPECT_LE(std::stoi(read_text(work / "pids.txt")), 4);                        // bwrap's init, sh, ls, grep
+}
+
+TEST(ConfinedBwrap, WithoutBwrapTheErrorSaysHowToOptOut) {
+  const char* old = std::getenv("PATH");
+  const std::string saved = old ? old : "";
+  setenv("PATH", "/nonexistent-gb", 1);
+  std::string error;
+  try {
+    ConfinedProgram prog({"/bin/true"}, fresh_dir("nobwrap"), ProgramLimits{});
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  setenv("PATH", saved.c_str(), 1);
+  EXPECT_NE(error.find("sandbox: none"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace grapebench
