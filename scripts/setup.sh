@@ -21,6 +21,8 @@ packages=(
   chromium        # the report's browser test (headless)
   libjs-three     # the report's 3D view of a scan against its ground-truth mesh (inlined)
   python3-pandas  # the README's example of reading results.csv (tested)
+  bubblewrap      # external programs run in a sandbox (algorithms/confined_program.h)
+  clang libfuzzer-14-dev  # scripts/fuzz.sh and the fuzz targets' short runs in the test suite
 )
 
 missing=()

@@ -89,6 +89,18 @@ TEST(ExternalProgram, PerRequestTimeoutAndFailureAreErrorsWithTheReason) {
             std::string::npos);
 }
 
+// Issue 23's reproducer: a FIFO left at the answer path blocked the harness.
+TEST(ExternalProgram, AFifoOrLinkAtTheAnswerPathIsAnErrorNotAHang) {
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_NE(error_of([&] { external_estimate(cube(), shell("mkfifo \"$(dirname \"$1\")/answer.json\"")); })
+                .find("answer.json is not a regular file"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { external_estimate(cube(), shell("ln -s /dev/zero \"$(dirname \"$1\")/answer.json\"")); })
+                .find("answer.json cannot be opened"),
+            std::string::npos);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5);
+}
+
 TEST(ExternalProgram, PersistentProgramsAnswerLinesAndFailCleanly) {
   // A program that answers each request line with a fixed volume.
   ExternalParams good = shell("while read line; do echo '{\"volume\": 0.002}'; done", true);
