@@ -14,7 +14,7 @@ namespace grapebench {
 namespace {
 
 // Bump when the meaning of a case file changes, so old results are recomputed.
-constexpr const char* kCaseFormat = "grapebench-case-6";
+constexpr const char* kCaseFormat = "grapebench-case-7";
 
 double truth_of(Quantity q, const GroundTruth& gt) {
   switch (q) {
@@ -200,11 +200,33 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
     for (const RocSamples& s : c.roc) roc.push_back({{"estimator", s.estimator}, {"class", s.class_name}, {"tpr", s.tpr}});
     j["roc"] = roc;
   }
+  j["digest"] = case_digest(nlohmann::json(j));
   return j;
 }
 
+std::string case_digest(const nlohmann::json& j) {
+  nlohmann::json content = j;
+  content.erase("digest");
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(content.dump())));
+  return hex;
+}
+
+namespace {
+
+// A number of the case file, finite and within [lo, hi].
+double checked(const nlohmann::json& j, const char* key, double lo, double hi) {
+  const double v = j.at(key).get<double>();
+  if (!(v >= lo && v <= hi)) throw std::runtime_error(std::string("'") + key + "' out of range");
+  return v;
+}
+
+}  // namespace
+
 CaseResult case_from_json(const nlohmann::json& j) {
-  if (j.value("format", "") != kCaseFormat) throw std::runtime_error("case file of another format");
+  if (!j.is_object() || j.value("format", "") != kCaseFormat) throw std::runtime_error("case file of another format");
+  if (!j.contains("digest") || !j["digest"].is_string() || j["digest"].get<std::string>() != case_digest(j))
+    throw CaseDigestMismatch();
   CaseResult c;
   c.key = j.at("key").get<std::string>();
   c.build = j.at("build").get<std::string>();
@@ -215,19 +237,19 @@ CaseResult case_from_json(const nlohmann::json& j) {
   c.ok = j.at("ok").get<bool>();
   c.error = j.at("error").get<std::string>();
   c.points = j.at("points").get<std::size_t>();
-  c.views = j.at("views").get<int>();
-  c.rotation_error_mean_deg = j.at("rotation_error_mean_deg").get<double>();
-  c.rotation_error_max_deg = j.at("rotation_error_max_deg").get<double>();
-  c.translation_error_mean_mm = j.at("translation_error_mean_mm").get<double>();
-  c.translation_error_max_mm = j.at("translation_error_max_mm").get<double>();
-  c.scan_seconds = j.at("scan_seconds").get<double>();
-  c.registration_seconds = j.at("registration_seconds").get<double>();
-  c.segmentation_precision = j.at("segmentation_precision").get<double>();
-  c.segmentation_recall = j.at("segmentation_recall").get<double>();
-  c.peduncle_kept = j.at("peduncle_kept").get<double>();
-  c.body_kept = j.at("body_kept").get<double>();
-  c.segmentation_seconds = j.at("segmentation_seconds").get<double>();
-  c.filter_seconds = j.at("filter_seconds").get<double>();
+  c.views = static_cast<int>(checked(j, "views", 0, 1e6));
+  c.rotation_error_mean_deg = checked(j, "rotation_error_mean_deg", 0, 360);
+  c.rotation_error_max_deg = checked(j, "rotation_error_max_deg", 0, 360);
+  c.translation_error_mean_mm = checked(j, "translation_error_mean_mm", 0, 1e12);
+  c.translation_error_max_mm = checked(j, "translation_error_max_mm", 0, 1e12);
+  c.scan_seconds = checked(j, "scan_seconds", 0, 1e9);
+  c.registration_seconds = checked(j, "registration_seconds", 0, 1e9);
+  c.segmentation_precision = checked(j, "segmentation_precision", 0, 1);
+  c.segmentation_recall = checked(j, "segmentation_recall", 0, 1);
+  c.peduncle_kept = checked(j, "peduncle_kept", 0, 1);
+  c.body_kept = checked(j, "body_kept", 0, 1);
+  c.segmentation_seconds = checked(j, "segmentation_seconds", 0, 1e9);
+  c.filter_seconds = checked(j, "filter_seconds", 0, 1e9);
   for (const auto& r : j.at("rows")) {
     EstimateRow e;
     e.estimator = r.at("estimator").get<std::string>();
@@ -236,15 +258,16 @@ CaseResult case_from_json(const nlohmann::json& j) {
     e.ok = r.at("ok").get<bool>();
     e.estimate = r.at("estimate").get<double>();
     e.truth = r.at("truth").get<double>();
+    if (!std::isfinite(e.truth) || (e.ok && !std::isfinite(e.estimate))) throw std::runtime_error("a row's numbers are not finite");
     e.watertight = r.at("watertight").get<bool>();
     e.error = r.at("error").get<std::string>();
-    e.seconds = r.at("seconds").get<double>();
-    e.peak_heap_mb = r.at("peak_heap_mb").get<double>();
-    e.frame = r.at("frame").get<int>();
+    e.seconds = checked(r, "seconds", 0, 1e9);
+    e.peak_heap_mb = checked(r, "peak_heap_mb", -1, 1e9);
+    e.frame = static_cast<int>(checked(r, "frame", -1, 1e6));
     e.roi = r.at("roi").get<std::string>();
-    e.region = r.at("region").get<int>();
+    e.region = static_cast<int>(checked(r, "region", -1, 1e6));
     e.region_points = r.at("region_points").get<std::size_t>();
-    e.region_precision = r.at("region_precision").get<double>();
+    e.region_precision = checked(r, "region_precision", -1, 1);
     e.notes = r.at("notes").get<std::string>();
     c.rows.push_back(e);
   }

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -134,8 +135,18 @@ std::vector<EstimateRow> run_estimators(const std::vector<EstimatorSpec>& specs,
 // A case's identity (condition, bunch, preset, seed, key), before any stage ran.
 CaseResult new_case(const Condition& condition, int condition_index, const BunchJob& job);
 
+// The case file's content; its last field `digest` is case_digest() of the rest.
 nlohmann::ordered_json case_to_json(const CaseResult& c);
-// Throws when the file is of another format or a field is missing or of the wrong type.
+// FNV-1a (64 bits) of the file's content without `digest`, keys sorted. It finds
+// edits and damage, not a forger who recomputes it: external programs are kept from
+// the output folder by their sandbox (algorithms/confined_program.h).
+std::string case_digest(const nlohmann::json& j);
+struct CaseDigestMismatch : std::runtime_error {
+  CaseDigestMismatch() : std::runtime_error("the case file does not match its digest (edited or damaged)") {}
+};
+// Throws CaseDigestMismatch when the content does not match its digest, and
+// std::exception when the file is of another format or a field is missing, of the
+// wrong type or out of range.
 CaseResult case_from_json(const nlohmann::json& j);
 
 double seconds_since(std::chrono::steady_clock::time_point t0);

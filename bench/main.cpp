@@ -210,6 +210,9 @@ int run_command(std::vector<std::string> scenes, const std::string& out, const s
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("%d cases: %d computed, %d reused from %s/cases (%.1f s)\n", r.cases, r.computed, r.reused,
                 o.out.string().c_str(), wall);
+    if (r.tampered > 0) {
+      std::printf("%d case file(s) did not match their digest (edited or damaged): recomputed\n", r.tampered);
+    }
     if (r.other_build > 0) {
       std::printf("%d finished case(s) there were computed by another build (not this binary, %s): %s\n",
                   r.other_build, build_identity().c_str(),

@@ -9,7 +9,13 @@
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
 
 #include <atomic>
 #include <chrono>
@@ -45,28 +51,67 @@ std::vector<CaseRef> all_cases(const SceneSet& set, const fs::path& out) {
   return refs;
 }
 
+// What was found at a case's place.
+struct CaseRead {
+  std::optional<CaseResult> result;  // usable
+  bool other_build = false;          // finished by another build (used only with any_build)
+  bool tampered = false;             // its content does not match its digest
+};
+
 // A finished case file with the expected key, computed by this build unless
-// `any_build`; `other_build` counts the files that match but another build computed.
-std::optional<CaseResult> read_case(const CaseRef& ref, const fs::path& file, bool any_build, int* other_build) {
-  const std::string& key = ref.key;
+// `any_build`, whose content matches its digest and whose fields are the scene's.
+CaseRead read_case(const SceneSet& set, const CaseRef& ref, const fs::path& file, bool any_build) {
+  CaseRead out;
   std::ifstream in(file, std::ios::binary);
-  if (!in) return std::nullopt;
+  if (!in) return out;
   try {
     const auto j = nlohmann::json::parse(in);
     CaseResult c = case_from_json(j);
-    if (c.key != key) return std::nullopt;
+    if (c.key != ref.key) return out;
     // A file whose indices are not its place's is foreign or edited: its condition
     // would index the scene's conditions unchecked further on.
-    if (c.condition != ref.condition || c.bunch != ref.job.index) return std::nullopt;
-    if (c.build != build_identity()) {
-      if (other_build) ++*other_build;
-      if (!any_build) return std::nullopt;
+    if (c.condition != ref.condition || c.bunch != ref.job.index) return out;
+    const auto& estimators = set.conditions[static_cast<std::size_t>(ref.condition)].scene.estimators;
+    for (const EstimateRow& row : c.rows) {
+      if (std::none_of(estimators.begin(), estimators.end(), [&](const EstimatorSpec& e) { return e.name == row.estimator; }))
+        return out;
     }
-    return c;
+    if (c.build != build_identity()) {
+      out.other_build = true;
+      if (!any_build) return out;
+    }
+    out.result = std::move(c);
+  } catch (const CaseDigestMismatch&) {
+    out.tampered = true;
   } catch (const std::exception&) {
-    return std::nullopt;  // unreadable (foreign or damaged): recompute
+    // unreadable (foreign, damaged or out of range): recompute
   }
+  return out;
 }
+
+// An exclusive claim on one case across processes (flock on cases/<case>.lock): two
+// runs on one --out never compute the same case at once. Released when destroyed, or
+// by the kernel when the process dies.
+class CaseClaim {
+ public:
+  CaseClaim(const fs::path& case_file, bool wait) {
+    const std::string lock = fs::path(case_file).replace_extension(".lock").string();
+    fd_ = open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw InputError(lock + ": cannot create the case's lock file: " + std::strerror(errno));
+    int rc;
+    while ((rc = flock(fd_, wait ? LOCK_EX : LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
+    }
+    held_ = rc == 0;
+  }
+  ~CaseClaim() { close(fd_); }
+  CaseClaim(const CaseClaim&) = delete;
+  CaseClaim& operator=(const CaseClaim&) = delete;
+  bool held() const { return held_; }
+
+ private:
+  int fd_ = -1;
+  bool held_ = false;
+};
 
 }  // namespace
 
@@ -85,10 +130,16 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   RunOutcome outcome;
   outcome.cases = static_cast<int>(refs.size());
   std::vector<std::optional<CaseResult>> results(refs.size());
+  const auto look = [&](std::size_t i, bool count) {
+    CaseRead read = read_case(set, refs[i], refs[i].file, o.reuse_other_builds);
+    if (count && read.other_build) ++outcome.other_build;
+    if (count && read.tampered) ++outcome.tampered;
+    results[i] = std::move(read.result);
+  };
   std::vector<std::size_t> pending;
   for (std::size_t i = 0; i < refs.size(); ++i) {
     if (static_cast<int>(i % static_cast<std::size_t>(o.shard_count)) != o.shard_index) continue;
-    if (o.resume) results[i] = read_case(refs[i], refs[i].file, o.reuse_other_builds, &outcome.other_build);
+    if (o.resume) look(i, true);
     if (results[i]) {
       ++outcome.reused;
     } else {
@@ -96,22 +147,56 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
     }
   }
   Progress progress("case", static_cast<int>(pending.size()), o.verbosity);
-  tbb::parallel_for(std::size_t{0}, pending.size(), std::size_t{1}, [&](std::size_t p) {
-    const CaseRef& ref = refs[pending[p]];
+  std::atomic<int> computed{0};
+  std::mutex busy_mutex;
+  std::vector<std::size_t> busy;  // claimed by another run on this folder: waited for after ours
+  const auto compute = [&](std::size_t i) {
+    const CaseRef& ref = refs[i];
     CaseResult r = run_case(set.conditions[static_cast<std::size_t>(ref.condition)], ref.condition, ref.job);
     // Written atomically as soon as it is done: an interrupted run resumes from here.
     write_file_atomic(ref.file, case_to_json(r).dump(1) + "\n");
     progress.done("condition " + std::to_string(r.condition) + ", bunch " + std::to_string(r.bunch), !r.ok);
-    results[pending[p]] = std::move(r);
+    results[i] = std::move(r);
+    ++computed;
+  };
+  // Claimed, a case is looked for again: another run may have finished it since
+  // (`waited`: we waited for the run that held it; even --no-resume takes its result).
+  const auto claimed = [&](std::size_t i, bool waited) {
+    if (o.resume || waited) look(i, false);
+    if (results[i]) {
+      progress.done("condition " + std::to_string(refs[i].condition) + ", bunch " + std::to_string(refs[i].job.index) +
+                        " (finished by another run)",
+                    false);
+    } else {
+      compute(i);
+    }
+  };
+  tbb::parallel_for(std::size_t{0}, pending.size(), std::size_t{1}, [&](std::size_t p) {
+    const std::size_t i = pending[p];
+    const CaseClaim claim(refs[i].file, false);
+    if (claim.held()) {
+      claimed(i, false);
+    } else {
+      const std::lock_guard<std::mutex> lock(busy_mutex);
+      busy.push_back(i);
+    }
   });
-  outcome.computed = static_cast<int>(pending.size());
+  std::sort(busy.begin(), busy.end());
+  tbb::parallel_for(std::size_t{0}, busy.size(), std::size_t{1}, [&](std::size_t b) {
+    const CaseClaim claim(refs[busy[b]].file, true);  // until the other run is done with it
+    claimed(busy[b], true);
+  });
+  outcome.computed = computed;
+  outcome.reused += static_cast<int>(pending.size()) - computed;
   // Other shards' cases may already be here (a shared folder); the tables need all.
   std::vector<CaseResult> cases;
   for (std::size_t i = 0; i < refs.size(); ++i) {
-    if (!results[i]) results[i] = read_case(refs[i], refs[i].file, o.reuse_other_builds, nullptr);
+    if (!results[i]) look(i, false);
     if (!results[i]) return outcome;
     cases.push_back(*results[i]);
   }
+  // One writer of the tables at a time (runs sharing the folder write the same bytes).
+  const CaseClaim tables(o.out / "tables", true);
   outcome.leaderboard = write_outputs(set, cases, o.out, o.threads);
   outcome.complete = true;
   return outcome;
@@ -126,10 +211,13 @@ RunOutcome merge_shards(const SceneSet& set, const std::vector<fs::path>& shard_
   std::string missing;
   int n_missing = 0;
   for (const auto& ref : refs) {
-    std::optional<CaseResult> found = read_case(ref, ref.file, o.reuse_other_builds, nullptr);
+    std::optional<CaseResult> found = read_case(set, ref, ref.file, o.reuse_other_builds).result;
     for (const auto& d : shard_dirs) {
       if (found) break;
-      found = read_case(ref, d / "cases" / ref.file.filename(), o.reuse_other_builds, &outcome.other_build);
+      const CaseRead read = read_case(set, ref, d / "cases" / ref.file.filename(), o.reuse_other_builds);
+      if (read.other_build) ++outcome.other_build;
+      if (read.tampered) ++outcome.tampered;
+      found = read.result;
       if (found) write_file_atomic(ref.file, case_to_json(*found).dump(1) + "\n");
     }
     if (!found) {

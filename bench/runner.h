@@ -26,6 +26,7 @@ struct RunOutcome {
   int computed = 0;   // run now
   int reused = 0;     // found finished in cases/
   int other_build = 0;  // finished cases of another build: recomputed, or reused with reuse_other_builds
+  int tampered = 0;     // case files whose content did not match their digest: recomputed
   bool complete = false;  // every case present: the tables and report were written
   std::string leaderboard;
 };

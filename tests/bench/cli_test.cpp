@@ -2,6 +2,8 @@
 #include "synth/params.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
@@ -232,6 +234,89 @@ TEST(Cli, AHostileExternalProgramChangesNothingAndLeavesNothingRunning) {
     if (s.str().find(marker) != std::string::npos) ++survivors;
   }
   EXPECT_EQ(survivors, 0);
+}
+
+// Issue 23's reproducer: resume checked only a case file's key, so edited estimates,
+// truths, `ok` flags or rows were reused silently. Each edit now fails the digest:
+// the case is recomputed and the run says so.
+TEST(Cli, AnEditedCaseFileIsRecomputedAndTheRunSaysSo) {
+  const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
+  const std::string out = "/tmp/grapebench_cli_tampered", file = out + "/two_bunches_hull/cases/c0000_b0001.json";
+  std::filesystem::remove_all(out);
+  ASSERT_EQ(run_cli("run " + scene + " --out " + out + " -q").status, 0);
+  const auto slurp = [](const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  const std::string results = slurp(out + "/two_bunches_hull/results.csv"), original = slurp(file);
+  const std::vector<std::pair<std::string, std::string>> edits = {
+      {"\"ok\": true", "\"ok\": false"}, {"\"estimate\": ", "\"estimate\": 1"}, {"\"truth\": ", "\"truth\": 2"},
+      {"\"points\": ", "\"points\": 9"}, {"\"digest\": \"", "\"digest\": \"0"}};
+  for (const auto& [from, to] : edits) {
+    std::string json = original;
+    const auto at = json.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    json.replace(at, from.size(), to);
+    std::ofstream(file, std::ios::binary) << json;
+    const CommandResult again = run_cli("run " + scene + " --out " + out + " -q");
+    EXPECT_EQ(again.status, 0) << again.out;
+    EXPECT_NE(again.out.find("2 cases: 1 computed, 1 reused"), std::string::npos) << from << "\n" << again.out;
+    EXPECT_NE(again.out.find("1 case file(s) did not match their digest"), std::string::npos) << from << "\n" << again.out;
+    EXPECT_TRUE(slurp(out + "/two_bunches_hull/results.csv") == results) << from;
+  }
+}
+
+// Two runs on one --out at the same time: each case is computed once (a claim per
+// case), and the files are those of one run.
+TEST(Cli, TwoConcurrentRunsOnOneOutComputeEachCaseOnce) {
+  namespace fs = std::filesystem;
+  const fs::path dir = "/tmp/grapebench_cli_concurrent";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "six.yaml") << "name: six\nseed: 5\nbunches:\n  - preset: table-red\n    count: 6\n"
+                                     "sensor:\n  type: ideal\n  width: 160\n  height: 120\n"
+                                     "rig:\n  type: turntable\n  views: 4\n  step_deg: 90\n  distance: 0.6\n"
+                                     "pipeline:\n  registration: true_poses\nestimators:\n  - type: convex_hull\n"
+                                     "    name: CH\n  - type: alpha_shape\n    name: AS\n";
+  const std::string scene = (dir / "six.yaml").string();
+  ASSERT_EQ(run_cli("run " + scene + " --out " + (dir / "alone").string() + " -q").status, 0);
+  const std::string cmd = std::string(GRAPEBENCH_EXE) + " run " + scene + " --out " + (dir / "shared").string() +
+                          " -q --threads 1 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> a(popen(cmd.c_str(), "r"), pclose), b(popen(cmd.c_str(), "r"), pclose);
+  const auto read_all = [](FILE* f) {
+    std::string text;
+    std::array<char, 4096> buf;
+    while (std::fgets(buf.data(), buf.size(), f)) text += buf.data();
+    return text;
+  };
+  const std::string out_a = read_all(a.get()), out_b = read_all(b.get());
+  EXPECT_EQ(WEXITSTATUS(pclose(a.release())), 0) << out_a;
+  EXPECT_EQ(WEXITSTATUS(pclose(b.release())), 0) << out_b;
+  const auto computed = [](const std::string& text) {
+    const auto at = text.find("6 cases: ");
+    return at == std::string::npos ? -1 : std::stoi(text.substr(at + 9));
+  };
+  ASSERT_GE(computed(out_a), 0) << out_a;
+  ASSERT_GE(computed(out_b), 0) << out_b;
+  EXPECT_EQ(computed(out_a) + computed(out_b), 6) << out_a << "\n" << out_b;
+  const auto slurp = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  for (const char* f : {"results.csv", "summary.json"})
+    EXPECT_TRUE(slurp(dir / "shared" / "six" / f) == slurp(dir / "alone" / "six" / f)) << f;
+  for (int k = 0; k < 6; ++k) {
+    const std::string name = "cases/c0000_b000" + std::to_string(k) + ".json";
+    const auto shared = nlohmann::json::parse(slurp(dir / "shared" / "six" / name));
+    auto alone = nlohmann::json::parse(slurp(dir / "alone" / "six" / name));
+    EXPECT_EQ(shared["rows"].size(), alone["rows"].size()) << name;
+    for (std::size_t r = 0; r < alone["rows"].size(); ++r)
+      EXPECT_EQ(shared["rows"][r]["estimate"], alone["rows"][r]["estimate"]) << name;
+  }
 }
 
 // Issue 23's reproducers: `--threshold nan` turned the gate off and negative times
