@@ -16,6 +16,7 @@
 
 #include "algorithms/confined_program.h"
 #include "algorithms/temp_folder.h"
+#include "synth/io.h"
 #include "synth/png.h"
 
 extern char** environ;
@@ -207,7 +208,7 @@ nlohmann::json run_once(const fs::path& dir, const ExternalParams& p) {
   if (end != ConfinedProgram::End::Exited || !prog->failure().empty()) fail_ended(p, end, *prog, "");
   const std::string text = read_answer_file(p, dir / "answer.json");
   try {
-    return nlohmann::json::parse(text);
+    return parse_json_bounded(text);
   } catch (const std::exception& e) {
     fail(p, std::string("answer.json is not JSON: ") + e.what());
   }
@@ -236,10 +237,13 @@ class PersistentPrograms {
         Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(p_.timeout));
     try {
       send_line(*proc, request.dump() + "\n", deadline);
-      nlohmann::json answer = nlohmann::json::parse(read_line(*proc, deadline));
+      nlohmann::json answer = parse_json_bounded(read_line(*proc, deadline));
       give_back(std::move(proc));
       return answer;
-    } catch (const nlohmann::json::exception& e) {
+    } catch (const InputError&) {
+      discard(*proc);
+      throw;
+    } catch (const std::exception& e) {
       discard(*proc);
       fail(p_, std::string("its answer line is not JSON: ") + e.what());
     } catch (...) {

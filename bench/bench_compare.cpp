@@ -13,9 +13,9 @@ namespace grapebench {
 
 namespace {
 
-std::map<std::string, std::vector<double>> times(const nlohmann::json& j) {
+std::map<std::string, std::vector<double>> times_of(const nlohmann::json& benchmarks) {
   std::map<std::string, std::vector<double>> out;
-  for (const auto& b : j.at("benchmarks")) {
+  for (const auto& b : benchmarks) {
     if (b.value("run_type", "iteration") != "iteration") continue;
     const std::string name = b.value("run_name", b.at("name").get<std::string>());
     const std::string unit = b.value("time_unit", "ns");
@@ -30,6 +30,16 @@ std::map<std::string, std::vector<double>> times(const nlohmann::json& j) {
     out[name].push_back(t * scale);  // ns
   }
   return out;
+}
+
+std::map<std::string, std::vector<double>> times(const nlohmann::json& j, const char* which) {
+  if (!j.is_object() || !j.contains("benchmarks") || !j["benchmarks"].is_array() || j["benchmarks"].empty())
+    throw InputError(std::string(which) + ": not Google Benchmark JSON ('benchmarks' must be a non-empty list)");
+  try {
+    return times_of(j["benchmarks"]);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string(which) + ": a benchmark entry is malformed (" + e.what() + ")");
+  }
 }
 
 double median(std::vector<double> v) {
@@ -69,7 +79,7 @@ double u_test_p(const std::vector<double>& a, const std::vector<double>& b) {
 
 BenchComparison compare_benchmarks(const nlohmann::json& baseline, const nlohmann::json& contender, double threshold,
                                    double alpha) {
-  const auto old_t = times(baseline), new_t = times(contender);
+  const auto old_t = times(baseline, "baseline"), new_t = times(contender, "contender");
   BenchComparison c;
   std::ostringstream s;
   char line[300];

@@ -1,5 +1,7 @@
 #include "bench/check.h"
 
+#include "synth/config.h"
+
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -11,10 +13,26 @@ namespace {
 
 using Key = std::tuple<std::string, std::string, std::string>;
 
-std::map<Key, nlohmann::json> rows_of(const nlohmann::json& summary) {
+// The rows of a summary, checked: a `scene` name, a non-empty `scores` list of
+// objects with string keys and numeric (or null) metrics, each key once.
+std::map<Key, nlohmann::json> rows_of(const nlohmann::json& summary, const std::string& what) {
+  const auto bad = [&](const std::string& why) { throw InputError(what + ": " + why); };
+  if (!summary.is_object()) bad("not a summary (a JSON object with `scene` and `scores`)");
+  if (!summary.contains("scene") || !summary["scene"].is_string()) bad("'scene' must be the scene's name");
+  if (!summary.contains("scores") || !summary["scores"].is_array()) bad("'scores' must be a list of rows");
+  if (summary["scores"].empty()) bad("'scores' is empty: nothing to compare");
   std::map<Key, nlohmann::json> m;
-  for (const auto& r : summary.at("scores")) {
-    m[{r.at("condition").get<std::string>(), r.at("estimator").get<std::string>(), r.at("quantity").get<std::string>()}] = r;
+  int i = 0;
+  for (const auto& r : summary["scores"]) {
+    const std::string at = "'scores[" + std::to_string(i++) + "]";
+    if (!r.is_object()) bad(at + "' must be an object");
+    for (const char* k : {"condition", "estimator", "quantity"})
+      if (!r.contains(k) || !r[k].is_string()) bad(at + "." + k + "' must be a string");
+    if (r.contains("unit") && !r["unit"].is_string()) bad(at + ".unit' must be a string");
+    for (const char* k : {"rmse", "mape_pct", "r2", "bias", "success_rate"})
+      if (r.contains(k) && !r[k].is_number() && !r[k].is_null()) bad(at + "." + k + "' must be a number or null");
+    const Key key{r["condition"].get<std::string>(), r["estimator"].get<std::string>(), r["quantity"].get<std::string>()};
+    if (!m.emplace(key, r).second) bad(at + "' repeats the row of " + std::get<1>(key) + " " + std::get<2>(key));
   }
   return m;
 }
@@ -31,10 +49,21 @@ std::string name(const Key& k) {
 
 }  // namespace
 
-CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::json& baseline) {
+CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::json& baseline,
+                                   const std::string& run_name, const std::string& baseline_name) {
+  const auto now = rows_of(run, run_name), base = rows_of(baseline, baseline_name);
+  if (run["scene"] != baseline["scene"]) {
+    throw InputError(run_name + " is a run of scene '" + run["scene"].get<std::string>() + "', " + baseline_name +
+                     " a baseline of '" + baseline["scene"].get<std::string>() + "'");
+  }
   Tolerances t;
   if (baseline.contains("tolerances")) {
     const auto& j = baseline["tolerances"];
+    if (!j.is_object()) throw InputError(baseline_name + ": 'tolerances' must be an object of numbers");
+    for (const auto& [k, v] : j.items()) {
+      if (!v.is_number() || !(v.get<double>() >= 0) || !std::isfinite(v.get<double>()))
+        throw InputError(baseline_name + ": 'tolerances." + k + "' must be a finite number >= 0");
+    }
     t.rmse_rel = j.value("rmse_rel", t.rmse_rel);
     t.rmse_abs = j.value("rmse_abs", t.rmse_abs);
     t.mape_pct_abs = j.value("mape_pct_abs", t.mape_pct_abs);
@@ -42,7 +71,6 @@ CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::js
     t.bias_rmse_frac = j.value("bias_rmse_frac", t.bias_rmse_frac);
     t.success_rate_abs = j.value("success_rate_abs", t.success_rate_abs);
   }
-  const auto now = rows_of(run), base = rows_of(baseline);
   CheckResult res;
   std::ostringstream d;
   char line[400];

@@ -25,7 +25,10 @@ struct CheckResult {
 };
 
 // Rows match on (condition, estimator, quantity); a baseline row missing from the run
-// is a regression, a new row in the run is reported but passes.
-CheckResult check_against_baseline(const nlohmann::json& run_summary, const nlohmann::json& baseline);
+// is a regression, a new row in the run is reported but passes. Throws InputError
+// (naming the file by `run_name` or `baseline_name` and the key) when either is not a
+// summary, has no rows, or the two are of different scenes.
+CheckResult check_against_baseline(const nlohmann::json& run_summary, const nlohmann::json& baseline,
+                                   const std::string& run_name = "run", const std::string& baseline_name = "baseline");
 
 }  // namespace grapebench

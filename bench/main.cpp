@@ -76,8 +76,10 @@ std::string sensor_help() {
 nlohmann::json read_json(const std::filesystem::path& f, const std::string& what) {
   std::ifstream in(f, std::ios::binary);
   if (!in) throw InputError(f.string() + ": cannot open");
+  std::stringstream text;
+  text << in.rdbuf();
   try {
-    return nlohmann::json::parse(in);
+    return parse_json_bounded(text.str());
   } catch (const std::exception& e) {
     throw InputError(f.string() + ": not " + what + ": " + e.what());
   }
@@ -292,7 +294,8 @@ Command check_subcommand(CLI::App& app) {
             std::filesystem::path p = o->run;
             if (std::filesystem::is_directory(p)) p /= "summary.json";
             const auto res = check_against_baseline(read_json(p, "a summary JSON file"),
-                                                    read_json(o->baseline, "a summary JSON file"));
+                                                    read_json(o->baseline, "a summary JSON file"), p.string(),
+                                                    o->baseline);
             std::cout << res.diff;
             std::printf("%s: %d rows compared with %s\n", res.pass ? "PASS" : "REGRESSION", res.rows_compared,
                         o->baseline.c_str());
@@ -439,6 +442,11 @@ int main(int argc, char** argv) {
     }
   } catch (const InputError& e) {
     std::fprintf(stderr, "grapebench: error: %s\n", e.what());
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // The user's paths (an --out that is a file, a folder that cannot be made): bad
+    // input, named.
+    std::fprintf(stderr, "grapebench: error: %s: %s\n", e.path1().string().c_str(), e.code().message().c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "grapebench: internal error: %s\n", e.what());

@@ -65,7 +65,9 @@ CaseRead read_case(const SceneSet& set, const CaseRef& ref, const fs::path& file
   std::ifstream in(file, std::ios::binary);
   if (!in) return out;
   try {
-    const auto j = nlohmann::json::parse(in);
+    std::stringstream text;
+    text << in.rdbuf();
+    const auto j = parse_json_bounded(text.str());
     CaseResult c = case_from_json(j);
     if (c.key != ref.key) return out;
     // A file whose indices are not its place's is foreign or edited: its condition
@@ -196,7 +198,7 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
     cases.push_back(*results[i]);
   }
   // One writer of the tables at a time (runs sharing the folder write the same bytes).
-  const CaseClaim tables(o.out / "tables", true);
+  const CaseClaim tables(o.out / "cases" / "tables", true);
   outcome.leaderboard = write_outputs(set, cases, o.out, o.threads);
   outcome.complete = true;
   return outcome;

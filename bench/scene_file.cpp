@@ -184,7 +184,40 @@ std::string number_label(double v) {
 
 YAML::Node parse_yaml(const std::string& text, const std::string& name) { return ConfigNode::parse_strict(text, name); }
 
-// Each condition re-parses the text (YAML::Clone would drop the line marks).
+// The scene text with the lines of its top-level `sweep:` block blanked (line
+// numbers elsewhere kept), or "" when the block does not stand on lines of its own.
+std::string text_without_sweep(const std::string& text, const YAML::Node& root) {
+  if (!root.IsMap() || root.Mark().line < 0) return "";
+  int start = -1, end = -1;
+  for (const auto& kv : root) {
+    if (kv.first.as<std::string>() == "sweep") start = kv.first.Mark().line;
+  }
+  for (const auto& kv : root) {
+    const int line = kv.first.Mark().line;
+    if (line == start && kv.first.as<std::string>() != "sweep") return "";  // flow style: keys share the line
+    if (line > start && (end < 0 || line < end)) end = line;
+  }
+  if (start < 0) return "";
+  std::string out;
+  int line = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const bool blank = line >= start && (end < 0 || line < end);
+    if (text[i] == '\n') {
+      ++line;
+      out += '\n';
+    } else if (!blank) {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
+// Expands the sweep. Each condition parses the scene anew (YAML::Clone would drop
+// the line marks that errors name), without the sweep block when it can be cut out:
+// parsing a long value list per condition made expansion quadratic. Values are taken
+// from a document's own nodes (a node of another document would merge that
+// document's node memory into this one: cubic). A condition that fails is redone
+// with its value node from the list, so the error names the line of the value.
 SceneSet expand(const std::string& text, const std::string& name) {
   SceneSet set;
   const YAML::Node root_yaml = parse_yaml(text, name);
@@ -197,10 +230,15 @@ SceneSet expand(const std::string& text, const std::string& name) {
   for (const auto& a : set.base.sweep) total *= a.values.size();
   if (total > 100000) throw InputError(name + ": the sweep has " + std::to_string(total) + " points; at most 100000");
   const std::string sweep_line = ConfigNode::from_yaml(root_yaml, name).where("sweep");
-  for (std::size_t flat = 0; flat < total; ++flat) {
+  std::string cut = text_without_sweep(text, root_yaml);
+  if (!cut.empty()) {
+    const YAML::Node check = parse_yaml(cut, name);
+    if (!check.IsMap() || check["sweep"] || check.size() + 1 != root_yaml.size()) cut.clear();
+  }
+  const auto condition = [&](std::size_t flat, bool precise) {
     Condition c;
-    YAML::Node doc = parse_yaml(text, name);
-    doc.remove("sweep");
+    const bool whole = precise || cut.empty();
+    YAML::Node doc = parse_yaml(whole ? text : cut, name);
     std::size_t rest = flat;
     std::vector<std::size_t> idx(set.base.sweep.size());
     for (std::size_t a = set.base.sweep.size(); a-- > 0;) {
@@ -211,21 +249,31 @@ SceneSet expand(const std::string& text, const std::string& name) {
       const auto& axis = set.base.sweep[a];
       const double v = axis.values[idx[a]];
       c.values.push_back(v);
-      // A list element keeps its line, so a value out of range names where it was written.
-      const YAML::Node written = root_yaml["sweep"][axis.key];
-      YAML::Node value = written.IsSequence() ? written[idx[a]] : YAML::Node(v);
+      YAML::Node value = axis.names.empty() ? YAML::Node(v) : YAML::Node(axis.names[idx[a]]);
+      if (whole) {
+        const YAML::Node written = YAML::Node(doc)["sweep"][axis.key];
+        if (written.IsSequence()) value = written[idx[a]];  // keeps its line for errors
+      }
       substitute(doc, axis.key, value, sweep_line);
       const auto dot = axis.key.rfind('.');
       c.label += (c.label.empty() ? "" : " ") + axis.key.substr(dot == std::string::npos ? 0 : dot + 1) + "=" +
                  (axis.names.empty() ? number_label(v) : axis.names[idx[a]]);
     }
+    doc.remove("sweep");
     try {
       c.scene = read_scene(ConfigNode::from_yaml(doc, name), name);
     } catch (const InputError& e) {
       throw InputError(std::string(e.what()) + " (sweep point " + c.label + ")");
     }
     c.scene.sweep = set.base.sweep;
-    set.conditions.push_back(std::move(c));
+    return c;
+  };
+  for (std::size_t flat = 0; flat < total; ++flat) {
+    try {
+      set.conditions.push_back(condition(flat, false));
+    } catch (const InputError&) {
+      set.conditions.push_back(condition(flat, true));  // throws again, naming the value's line
+    }
   }
   return set;
 }

@@ -28,6 +28,27 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view bytes
   }
 }
 
+nlohmann::json parse_json_bounded(std::string_view text, int max_depth) {
+  // A cheap pre-pass: brackets outside strings (the parser's callback would build the
+  // deep value before it could refuse it).
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > max_depth) throw std::runtime_error("nested deeper than " + std::to_string(max_depth) + " levels");
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return nlohmann::json::parse(text);
+}
+
 namespace {
 nlohmann::json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 nlohmann::json rgb(const Rgb& c) { return {c.r, c.g, c.b}; }

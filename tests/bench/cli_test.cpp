@@ -319,6 +319,52 @@ TEST(Cli, TwoConcurrentRunsOnOneOutComputeEachCaseOnce) {
   }
 }
 
+// Issue 23's reproducers: a baseline nested a million deep overflowed the stack; one
+// of `{"scores": []}` passed; structurally wrong ones were internal errors (exit 3);
+// the scene name was never compared. A case file nested as deep is recomputed.
+TEST(Cli, MalformedBaselinesAndCaseFilesAreErrorsNotCrashes) {
+  namespace fs = std::filesystem;
+  const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
+  const fs::path dir = "/tmp/grapebench_cli_baselines";
+  fs::remove_all(dir);
+  ASSERT_EQ(run_cli("run " + scene + " --out " + (dir / "out").string() + " -q").status, 0);
+  const std::string run = (dir / "out" / "two_bunches_hull").string();
+  const std::string deep = "{\"scores\": " + std::string(1000000, '[') + std::string(1000000, ']') + "}";
+  const std::vector<std::pair<std::string, std::string>> baselines = {
+      {deep, "nested deeper than 64 levels"},
+      {"{\"scene\": \"two_bunches_hull\", \"scores\": []}", "'scores' is empty"},
+      {"{\"scene\": \"two_bunches_hull\", \"scores\": 5}", "'scores' must be a list"},
+      {"[1, 2]", "not a summary"},
+      {"{\"scene\": \"two_bunches_hull\", \"scores\": [{\"estimator\": 5}]}", "'scores[0].condition' must be a string"},
+      {"{\"scene\": \"other\", \"scores\": [{\"condition\": \"\", \"estimator\": \"CH\", \"quantity\": \"volume\"}]}",
+       "a baseline of 'other'"},
+      {"{\"scene\": \"two_bunches_hull\", \"tolerances\": {\"rmse_rel\": -1}, \"scores\": [{\"condition\": \"\", "
+       "\"estimator\": \"CH\", \"quantity\": \"volume\"}]}",
+       "'tolerances.rmse_rel' must be a finite number >= 0"}};
+  for (const auto& [text, message] : baselines) {
+    std::ofstream(dir / "baseline.json") << text;
+    const CommandResult r = run_cli("check " + run + " --baseline " + (dir / "baseline.json").string());
+    EXPECT_EQ(r.status, 2) << message << "\n" << r.out.substr(0, 300);
+    EXPECT_NE(r.out.find(message), std::string::npos) << r.out.substr(0, 300);
+  }
+  std::ofstream(dir / "bench.json") << "{\"benchmarks\": [{\"name\": 5}]}";
+  const CommandResult bench = run_cli("compare-bench " + (dir / "bench.json").string() + " " + (dir / "bench.json").string());
+  EXPECT_EQ(bench.status, 2) << bench.out;
+  EXPECT_NE(bench.out.find("a benchmark entry is malformed"), std::string::npos) << bench.out;
+  // A deep case file: recomputed, not a crash.
+  std::ofstream(run + "/cases/c0000_b0000.json") << deep;
+  const CommandResult again = run_cli("run " + scene + " --out " + (dir / "out").string() + " -q");
+  EXPECT_EQ(again.status, 0) << again.out.substr(0, 300);
+  EXPECT_NE(again.out.find("2 cases: 1 computed, 1 reused"), std::string::npos) << again.out.substr(0, 300);
+  // An --out that cannot be a folder: a clear error, exit 2 (was an internal error, 3).
+  std::ofstream(dir / "a_file") << "x";
+  for (const char* sub : {"run", "scan"}) {
+    const CommandResult out = run_cli(std::string(sub) + " " + scene + " --out " + (dir / "a_file").string() + " -q");
+    EXPECT_EQ(out.status, 2) << sub << ": " << out.out;
+    EXPECT_NE(out.out.find("a_file"), std::string::npos) << out.out;
+  }
+}
+
 // Issue 23's reproducers: `--threshold nan` turned the gate off and negative times
 // were compared.
 TEST(Cli, CompareBenchRejectsNanThresholdsAndNonPositiveTimes) {
