@@ -1,4 +1,5 @@
 #include "algorithms/cylinder_fit.h"
+#include "synth/run_stop.h"
 
 #include <pcl/features/normal_3d.h>
 #include <pcl/point_cloud.h>
@@ -6,12 +7,29 @@
 #include <pcl/sample_consensus/method_types.h>
 #include <pcl/sample_consensus/model_types.h>
 #include <pcl/search/kdtree.h>
-#include <pcl/segmentation/sac_segmentation.h>
+#include <pcl/sample_consensus/msac.h>
+#include <pcl/sample_consensus/sac_model_cylinder.h>
 
 #include <algorithm>
 #include <cmath>
 
 namespace grapebench {
+
+namespace {
+
+// PCL's cylinder model, polling the run's stop flag (synth/run_stop.h) on each MSAC
+// trial: the trials allocate nothing, so a budget could not end them otherwise.
+class StoppableCylinder : public pcl::SampleConsensusModelCylinder<pcl::PointXYZ, pcl::Normal> {
+ public:
+  using Base = pcl::SampleConsensusModelCylinder<pcl::PointXYZ, pcl::Normal>;
+  using Base::Base;
+  void getDistancesToModel(const Eigen::VectorXf& coefficients, std::vector<double>& distances) const override {
+    throw_if_stop_requested();
+    Base::getDistancesToModel(coefficients, distances);
+  }
+};
+
+}  // namespace
 
 CylinderFit cylinder_fit(const PointCloud& cloud, const CylinderFitParams& p) {
   require_points(cloud, 10, "cylinder_fit");
@@ -34,33 +52,39 @@ CylinderFit cylinder_fit(const PointCloud& cloud, const CylinderFitParams& p) {
   ne.setSearchMethod(pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
   ne.setKSearch(std::min<int>(p.normal_k, static_cast<int>(cloud.rows()) - 1));
   ne.compute(*normals);
-  pcl::SACSegmentationFromNormals<pcl::PointXYZ, pcl::Normal> seg;
-  seg.setOptimizeCoefficients(true);
-  seg.setModelType(pcl::SACMODEL_CYLINDER);
-  seg.setMethodType(pcl::SAC_MSAC);
-  seg.setNormalDistanceWeight(p.normal_weight);
-  seg.setMaxIterations(p.max_iterations);
-  seg.setDistanceThreshold(p.max_distance);
-  seg.setRadiusLimits(p.min_radius, p.max_radius);
-  seg.setInputCloud(in);
-  seg.setInputNormals(normals);
-  pcl::PointIndices inliers;
-  pcl::ModelCoefficients coeff;
-  seg.segment(inliers, coeff);
-  if (inliers.indices.empty() || coeff.values.size() != 7) throw InputError("cylinder_fit: no cylinder found");
+  // What pcl::SACSegmentationFromNormals::segment does (PCL 1.13: the model seeded,
+  // MSAC at probability 0.99, coefficients optimised, inliers selected again), with
+  // the stoppable model.
+  auto model = pcl::make_shared<StoppableCylinder>(in, false);
+  model->setInputNormals(normals);
+  model->setRadiusLimits(p.min_radius, p.max_radius);
+  model->setNormalDistanceWeight(p.normal_weight);
+  pcl::MEstimatorSampleConsensus<pcl::PointXYZ> sac(model, p.max_distance);
+  sac.setMaxIterations(p.max_iterations);
+  sac.setProbability(0.99);
+  pcl::Indices inliers;
+  Eigen::VectorXf coeff, refined;
+  if (sac.computeModel(0)) {
+    sac.getInliers(inliers);
+    sac.getModelCoefficients(coeff);
+    model->optimizeModelCoefficients(inliers, coeff, refined);
+    model->selectWithinDistance(refined, p.max_distance, inliers);
+  }
+  if (inliers.empty() || refined.size() != 7) throw InputError("cylinder_fit: no cylinder found");
+  const std::vector<float> coeff_values(refined.data(), refined.data() + 7);
   CylinderFit f;
-  f.point = Vec3(coeff.values[0], coeff.values[1], coeff.values[2]) + mean.transpose();
-  f.axis = Vec3(coeff.values[3], coeff.values[4], coeff.values[5]).normalized();
-  f.radius = coeff.values[6];
+  f.point = Vec3(coeff_values[0], coeff_values[1], coeff_values[2]) + mean.transpose();
+  f.axis = Vec3(coeff_values[3], coeff_values[4], coeff_values[5]).normalized();
+  f.radius = coeff_values[6];
   f.diameter = 2 * f.radius;
   double lo = 1e300, hi = -1e300;
-  for (auto i : inliers.indices) {
+  for (auto i : inliers) {
     const double t = (cloud.row(i).transpose() - f.point).dot(f.axis);
     lo = std::min(lo, t);
     hi = std::max(hi, t);
   }
   f.height = hi - lo;
-  f.inliers = static_cast<int>(inliers.indices.size());
+  f.inliers = static_cast<int>(inliers.size());
   return f;
 }
 

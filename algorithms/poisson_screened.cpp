@@ -1,4 +1,5 @@
 #include "algorithms/poisson_screened.h"
+#include "synth/run_stop.h"
 
 #include "algorithms/grid_contour.h"
 
@@ -424,6 +425,7 @@ Solve conjugate_gradients(std::vector<Level>& levels, Field b, double tolerance,
   dir = lv.x;
   double rz = dot(r, lv.x);
   while (out.iterations < max_iterations) {
+    throw_if_stop_requested();  // a run over its time budget (synth/run_stop.h)
     ++out.iterations;
     apply(lv, dir, q);
     const auto a = static_cast<float>(rz / dot(dir, q));

@@ -74,15 +74,38 @@ CaseResult new_case(const Condition& condition, int condition_index, const Bunch
 TimedEstimate run_estimator(const EstimatorSpec& spec, const EstimatorInput& input) {
   TimedEstimate t;
   const auto t0 = std::chrono::steady_clock::now();
-  const std::int64_t peak = peak_heap_bytes([&] {
+  // The exception is kept, not its message: after a budget's stop nothing inside the
+  // run may allocate.
+  std::exception_ptr error;
+  const MeteredRun m = run_metered(
+      [&] {
+        try {
+          t.estimate = spec.run(input);
+        } catch (...) {
+          error = std::current_exception();
+        }
+      },
+      RunBudget{spec.time_budget, spec.memory_budget});
+  t.seconds = seconds_since(t0);
+  if (m.peak_bytes >= 0) t.peak_heap_mb = static_cast<double>(m.peak_bytes) / 1e6;
+  if (error) {
     try {
-      t.estimate = spec.run(input);
+      std::rethrow_exception(error);
     } catch (const std::exception& e) {
       t.error = e.what();
+    } catch (...) {
+      t.error = "an exception that is not a std::exception";
     }
-  });
-  t.seconds = seconds_since(t0);
-  if (peak >= 0) t.peak_heap_mb = static_cast<double>(peak) / 1e6;
+  }
+  char why[160];
+  if (m.over_time) {
+    std::snprintf(why, sizeof why, "over its time budget of %g s (time_budget)", spec.time_budget);
+    t.error = why;
+  } else if (m.over_memory) {
+    std::snprintf(why, sizeof why, "over its memory budget of %g MB (memory_budget)", spec.memory_budget);
+    t.error = why;
+  }
+  if (!t.error.empty()) t.estimate = Estimate{};
   return t;
 }
 

@@ -1,11 +1,19 @@
 #include "bench/heap_meter.h"
 
+#include "synth/run_stop.h"
+
 #include <malloc.h>
+
+#include <algorithm>
+#include <new>
 #include <tbb/task_arena.h>
 #include <tbb/task_scheduler_observer.h>
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
+#include <condition_variable>
+#include <thread>
 #include <cstdlib>
 #include <mutex>
 #include <vector>
@@ -20,6 +28,18 @@ namespace {
 struct HeapCounter {
   std::atomic<std::int64_t> live{0}, peak{0};
   std::atomic<std::uint64_t> generation{0};
+  std::int64_t limit = 0;             // bytes; 0: none
+  std::atomic<bool> stop{false};      // the time budget passed: refuse every allocation
+  std::atomic<bool> refused{false};   // an allocation passed the limit
+  // True when an allocation of n bytes must fail.
+  bool refuse(std::size_t n) {
+    if (stop.load(std::memory_order_relaxed)) return true;
+    if (limit > 0 && live.load(std::memory_order_relaxed) + static_cast<std::int64_t>(n) > limit) {
+      refused.store(true, std::memory_order_relaxed);
+      return true;
+    }
+    return false;
+  }
   void add(std::int64_t n) {
     const std::int64_t now = live.fetch_add(n, std::memory_order_relaxed) + n;
     std::int64_t p = peak.load(std::memory_order_relaxed);
@@ -64,6 +84,9 @@ void release_counter(HeapCounter* c) {
   c->generation.fetch_add(1);  // threads still pointing here stop counting
   c->live = 0;
   c->peak = 0;
+  c->limit = 0;
+  c->stop = false;
+  c->refused = false;
   CounterPool& p = pool();
   std::lock_guard<std::mutex> lock(p.mutex);
   p.free.push_back(c);
@@ -77,10 +100,14 @@ class ArenaCounterObserver : public tbb::task_scheduler_observer {
   }
   ~ArenaCounterObserver() override { observe(false); }
   void on_scheduler_entry(bool is_worker) override {
-    if (is_worker) tls_run = run_;
+    if (!is_worker) return;
+    tls_run = run_;
+    tls_run_stop = &run_.counter->stop;
   }
   void on_scheduler_exit(bool is_worker) override {
-    if (is_worker) tls_run = ThreadRun{};
+    if (!is_worker) return;
+    tls_run = ThreadRun{};
+    tls_run_stop = nullptr;
   }
 
  private:
@@ -95,27 +122,62 @@ bool heap_meter_available() { return true; }
 bool heap_meter_available() { return false; }
 #endif
 
-std::int64_t peak_heap_bytes(const std::function<void()>& work) {
+MeteredRun run_metered(const std::function<void()>& work, const RunBudget& budget) {
   HeapCounter* const counter = take_counter();
+  counter->limit = budget.memory_mb > 0 ? static_cast<std::int64_t>(budget.memory_mb * 1e6) : 0;
   const ThreadRun run{counter, counter->generation.load()};
   const ThreadRun saved = tls_run;
-  std::int64_t peak = -1;
+  const std::atomic<bool>* const saved_stop = tls_run_stop;
+  // The watchdog raises the stop flag at the deadline unless the work ends first.
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool done = false;
+  std::thread watchdog;
+  if (budget.seconds > 0) {
+    const auto deadline = std::chrono::steady_clock::now() +
+                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(budget.seconds));
+    watchdog = std::thread([&, deadline] {
+      std::unique_lock<std::mutex> lock(mutex);
+      if (!finished.wait_until(lock, deadline, [&] { return done; })) counter->stop = true;
+    });
+  }
+  const auto end_watch = [&] {
+    if (!watchdog.joinable()) return;
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      done = true;
+    }
+    finished.notify_one();
+    watchdog.join();
+  };
+  MeteredRun result;
   try {
     tbb::task_arena arena;  // the default concurrency, within the run's global limit
     arena.initialize();
     ArenaCounterObserver observer(arena, run);
     tls_run = run;
+    tls_run_stop = &counter->stop;
     arena.execute(work);
-    peak = counter->peak.load();
+    result.peak_bytes = counter->peak.load();
   } catch (...) {
     tls_run = saved;
+    tls_run_stop = saved_stop;
+    end_watch();
     release_counter(counter);
     throw;
   }
   tls_run = saved;
+  tls_run_stop = saved_stop;
+  end_watch();
+  result.over_time = counter->stop.load();
+  result.over_memory = counter->refused.load();
   release_counter(counter);
-  return heap_meter_available() ? peak : -1;
+  if (!heap_meter_available()) result.peak_bytes = -1;
+  return result;
 }
+
+std::int64_t peak_heap_bytes(const std::function<void()>& work) { return run_metered(work, RunBudget{}).peak_bytes; }
 
 }  // namespace grapebench
 
@@ -132,7 +194,38 @@ void* __libc_pvalloc(std::size_t);
 void __libc_free(void*);
 }
 
+extern "C" int omp_get_level() __attribute__((weak));  // libgomp's, when loaded (PCL)
+
 namespace {
+// True when operator new must throw std::bad_alloc for the budget of this thread's
+// run. Only C++ allocations are refused: C libraries (libsvm, qhull) do not check
+// malloc's answer. Nor inside an OpenMP region (PCL's MLS, normals): an exception
+// there terminates the program; the run is still marked over its budget.
+inline bool new_refused(std::size_t n) {
+  grapebench::HeapCounter* c = grapebench::active_counter();
+  if (!c || !c->refuse(n)) return false;
+  return !(omp_get_level && omp_get_level() > 0);  // any region, one thread or many
+}
+void* new_block(std::size_t n) {
+  if (new_refused(n)) throw std::bad_alloc();
+  for (;;) {
+    if (void* p = std::malloc(n ? n : 1)) return p;
+    const std::new_handler h = std::get_new_handler();
+    if (!h) throw std::bad_alloc();
+    h();
+  }
+}
+void* new_aligned(std::size_t n, std::align_val_t a) {
+  if (new_refused(n)) throw std::bad_alloc();
+  const std::size_t align = std::max(static_cast<std::size_t>(a), sizeof(void*));
+  for (;;) {
+    void* p = nullptr;
+    if (posix_memalign(&p, align, n ? n : 1) == 0) return p;
+    const std::new_handler h = std::get_new_handler();
+    if (!h) throw std::bad_alloc();
+    h();
+  }
+}
 inline void* counted(void* p) {
   if (!p) return p;
   if (grapebench::HeapCounter* c = grapebench::active_counter()) c->add(static_cast<std::int64_t>(malloc_usable_size(p)));
@@ -168,5 +261,40 @@ void free(void* p) {
   uncount(p);
   __libc_free(p);
 }
+}
+
+// operator new, replaced to apply the run's budget (the blocks are malloc's: the
+// library's operator delete frees them).
+void* operator new(std::size_t n) { return new_block(n); }
+void* operator new[](std::size_t n) { return new_block(n); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  try {
+    return new_block(n);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
+  try {
+    return new_block(n);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new(std::size_t n, std::align_val_t a) { return new_aligned(n, a); }
+void* operator new[](std::size_t n, std::align_val_t a) { return new_aligned(n, a); }
+void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+  try {
+    return new_aligned(n, a);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+  try {
+    return new_aligned(n, a);
+  } catch (...) {
+    return nullptr;
+  }
 }
 #endif

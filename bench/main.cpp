@@ -96,7 +96,10 @@ std::string run_help() {
     << registration_registry().help("    ")
     << "    view_filters, cloud_filters: lists of pipeline steps {type: ..., keys}, on each view (camera\n"
        "        frame) and on the registered cloud:\n"
-    << filter_registry().help("    ") << "\nestimators: a list of {type: ..., name: column name (default: the type), keys}\n"
+    << filter_registry().help("    ")
+    << "\nestimators: a list of {type: ..., name: column name (default: the type), keys}. Every entry also takes\n"
+       "  time_budget     s      600     [0.001, 86400]  wall time of one run; past it the row fails with the reason\n"
+       "  memory_budget   MB     8192    [1, 1e7]        heap held at once; past it the row fails with the reason\n"
     << estimator_registry().help()
     << "\nsweep:      {dotted.key: [values] or {from, to, step}}, e.g. sensor.noise_scale: [0, 0.5, 1, 2, 4],\n"
        "            bunches.compactness (every group), estimators[2].alpha; the run covers the product.\n\n"

@@ -175,6 +175,8 @@ std::vector<EstimatorSpec> read_estimators(const ConfigNode& root) {
     e.input = bound.input;
     e.run = std::move(bound.run);
     e.name = n.get_string("name", e.type);
+    e.time_budget = n.get_real("time_budget", e.time_budget, 0.001, 86400);
+    e.memory_budget = n.get_real("memory_budget", e.memory_budget, 1, 1e7);
     if (e.name.empty() || e.name.find_first_of(",\"\n ") != std::string::npos) {
       n.fail("name", "must be non-empty without spaces, commas or quotes");
     }
@@ -222,6 +224,8 @@ nlohmann::ordered_json scene_json(const Scene& s) {
     for (const auto& e : s.estimators) {
       nlohmann::ordered_json one = {{"name", e.name}};
       for (const auto& [k, v] : e.params.items()) one[k] = v;
+      one["time_budget"] = e.time_budget;
+      one["memory_budget"] = e.memory_budget;
       est.push_back(one);
     }
     j["estimators"] = est;

@@ -112,6 +112,11 @@ struct EstimatorSpec {
   std::string input = "cloud";    // cloud | stereo_pair (EstimatorBinding::input)
   nlohmann::ordered_json params;  // {type, every parameter with defaults filled}
   BoundEstimator run;
+  // Budget of one run (keys of every entry; bench/heap_meter.h): past it the row
+  // fails with the reason. Safe defaults: no built-in estimator needs a tenth of them
+  // on the papers' bunches.
+  double time_budget = 600;     // s, wall, [0.001, 86400]
+  double memory_budget = 8192;  // MB of heap held at once, [1, 1e7]
 };
 
 // One swept parameter: a dotted path into the scene ("sensor.noise_scale",

@@ -1,4 +1,6 @@
 // The harness: sweeps, strict estimator sections, resume, shards, determinism, check.
+#include "bench/heap_meter.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -112,6 +114,35 @@ TEST(Sweep, ALongValueListExpandsToTheConditionsOfTheRange) {
     EXPECT_EQ(listed.conditions[c].label, ranged.conditions[c].label);
     EXPECT_EQ(scene_json(listed.conditions[c].scene).dump(), scene_json(ranged.conditions[c].scene).dump());
   }
+}
+
+// An estimator over its budget is a failed row with the reason, never a hung run.
+TEST(Estimators, OverBudgetRunsFailTheirRowsWithTheReason) {
+  const std::string yaml = std::string(kScene) +
+                           "  - type: poisson\n    name: PB_slow\n    solver: screened\n    time_budget: 0.002\n"
+                           "  - type: poisson\n    name: PB_big\n    solver: screened\n    memory_budget: 1\n"
+                           "  - type: cylinder_fit\n    name: GC_slow\n    max_iterations: 1000000\n    time_budget: 0.001\n";
+  const fs::path out = fresh_dir("budgets");
+  run_scene_set(parse_scene_set(yaml, "budgets.yaml"), quiet(out, 2));
+  const std::string csv = slurp(out / "results.csv");
+  EXPECT_NE(csv.find("over its time budget of 0.002 s (time_budget)"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("GC_slow,cylinder_fit,size_major,mm,NaN,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("over its time budget of 0.001 s (time_budget)"), std::string::npos) << csv;
+  if (heap_meter_available()) {
+    EXPECT_NE(csv.find("over its memory budget of 1 MB (memory_budget)"), std::string::npos) << csv;
+  }
+  // The other estimators of the same cases are untouched.
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  for (const auto& r : summary["scores"]) {
+    const std::string name = r["estimator"].get<std::string>();
+    if (name == "PB_slow" || name == "GC_slow" || (name == "PB_big" && heap_meter_available())) {
+      EXPECT_EQ(r["succeeded"].get<int>(), 0) << name;
+    } else if (name == "CH") {
+      EXPECT_EQ(r["succeeded"].get<int>(), 3) << name;
+    }
+  }
+  const std::string m = error_of(std::string(kScene) + "    time_budget: 0\n");
+  EXPECT_NE(m.find("time_budget"), std::string::npos) << m;
 }
 
 TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
