@@ -42,17 +42,19 @@ std::vector<ScanSummary> run_scans(const Scene& scene, const ScanRunOptions& o) 
     const BunchRecord rec{job.preset, job.seed, job.index, job.params, report};
     write_file_atomic(dir / "ground_truth.json", ground_truth_json(bunch, truth, rec).dump(1) + "\n");
     const RayScene rays = scene_rays(scene, bunch, job.seed);
-    // The scan draws from its own stream, independent of the generator's.
-    const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
-    write_scan(scan, dir, stem, o.merged);
+    // Each view is written as it is captured: a pass of a thousand frames holds one.
+    const std::uint64_t scan_seed = derive_seed(job.seed, 0x5ca9);  // its own stream, independent of the generator's
+    ScanWriter writer(scan_description(*scene.sensor, *scene.rig, scene.background, scan_seed), dir, stem, o.merged);
     ScanSummary s;
     s.bunch = job.index;
-    s.views = static_cast<int>(scan.views.size());
-    for (const auto& v : scan.views) {
+    scan_views(rays, *scene.sensor, *scene.rig, scene.background, scan_seed, [&](ScanView&& v, std::size_t) {
+      writer.add(v);
+      ++s.views;
       s.valid_points += v.cloud.valid_count();
       s.rays += v.cloud.rays_cast;
       s.seconds += v.seconds;
-    }
+    });
+    writer.finish();
     rows.push_back(s);
     progress.done("bunch " + std::to_string(job.index) + ", " + std::to_string(s.views) + " views");
   }

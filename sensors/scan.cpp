@@ -1,5 +1,9 @@
 #include "sensors/scan.h"
 
+#include <unistd.h>
+
+#include <fstream>
+
 #include <png.h>
 
 #include <chrono>
@@ -12,13 +16,18 @@
 
 namespace grapebench {
 
-Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
-                std::uint64_t seed) {
+Scan scan_description(const Sensor& sensor, const Rig& rig, const BackgroundSpec& background, std::uint64_t seed) {
   Scan scan;
   scan.seed = seed;
   scan.sensor = sensor.describe();
   scan.rig = rig.describe();
   scan.background = background_param_table().to_json(background);
+  return scan;
+}
+
+Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
+                std::uint64_t seed, const std::function<void(ScanView&&, std::size_t k)>& consume) {
+  Scan scan = scan_description(sensor, rig, background, seed);
   const auto views = rig.views(scene.bunch_centre(), scene.bunch_radius(), background);
   for (std::size_t k = 0; k < views.size(); ++k) {
     ScanView v;
@@ -27,8 +36,17 @@ Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, con
     const auto t0 = std::chrono::steady_clock::now();
     v.cloud = sensor.capture(scene.with_background(views[k].background), views[k].pose, derive_seed(seed, k));
     v.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    scan.views.push_back(std::move(v));
+    consume(std::move(v), k);
   }
+  return scan;
+}
+
+Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
+                std::uint64_t seed) {
+  std::vector<ScanView> views;
+  Scan scan = scan_views(scene, sensor, rig, background, seed,
+                         [&](ScanView&& v, std::size_t) { views.push_back(std::move(v)); });
+  scan.views = std::move(views);
   return scan;
 }
 
@@ -134,9 +152,9 @@ std::string label_png_bytes(const OrganisedCloud& c) {
   return png_bytes(c.width, c.height, 8, PNG_COLOR_TYPE_GRAY, px);
 }
 
-std::string merged_ply_bytes(const Scan& scan) {
-  std::size_t n = 0;
-  for (const auto& v : scan.views) n += v.cloud.valid_count();
+namespace {
+
+std::string merged_ply_header(std::size_t n) {
   std::ostringstream h;
   h << "ply\nformat binary_little_endian 1.0\n"
     << "comment grapebench scan, all views, world frame (z up, rachis top at the origin), metres; "
@@ -146,53 +164,77 @@ std::string merged_ply_bytes(const Scan& scan) {
     << "property float nx\nproperty float ny\nproperty float nz\n"
     << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
     << "property uchar label\nproperty int berry\nproperty ushort view\nend_header\n";
-  std::string s = h.str();
-  for (std::size_t k = 0; k < scan.views.size(); ++k) {
-    const OrganisedCloud& c = scan.views[k].cloud;
-    const Eigen::Isometry3d& T = scan.views[k].rig.pose;
-    for (std::size_t i = 0; i < c.size(); ++i) {
-      if (!c.valid[i]) continue;
-      const Vec3 p = T * c.xyz[i].cast<double>();
-      const Vec3 nrm = T.linear() * c.normal[i].cast<double>();
-      for (int a = 0; a < 3; ++a) put<float>(s, static_cast<float>(p[a]));
-      for (int a = 0; a < 3; ++a) put<float>(s, static_cast<float>(nrm[a]));
-      for (int a = 0; a < 3; ++a) put<std::uint8_t>(s, c.rgb[i][a]);
-      put<std::uint8_t>(s, c.label[i]);
-      put<std::int32_t>(s, c.berry[i]);
-      put<std::uint16_t>(s, static_cast<std::uint16_t>(k));
-    }
+  return h.str();
+}
+
+// View k's valid points in the world frame, as the merged PLY's binary records.
+std::string merged_records(const ScanView& v, std::size_t k) {
+  std::string s;
+  const OrganisedCloud& c = v.cloud;
+  const Eigen::Isometry3d& T = v.rig.pose;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!c.valid[i]) continue;
+    const Vec3 p = T * c.xyz[i].cast<double>();
+    const Vec3 nrm = T.linear() * c.normal[i].cast<double>();
+    for (int a = 0; a < 3; ++a) put<float>(s, static_cast<float>(p[a]));
+    for (int a = 0; a < 3; ++a) put<float>(s, static_cast<float>(nrm[a]));
+    for (int a = 0; a < 3; ++a) put<std::uint8_t>(s, c.rgb[i][a]);
+    put<std::uint8_t>(s, c.label[i]);
+    put<std::int32_t>(s, c.berry[i]);
+    put<std::uint16_t>(s, static_cast<std::uint16_t>(k));
   }
   return s;
 }
 
-void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem, bool merged) {
-  std::filesystem::create_directories(dir);
-  nlohmann::ordered_json m;
-  m["format"] = "grapebench-scan/1";
-  m["frames"] = "world: z up, bunch rachis top at the origin; camera: x right, y down, z forward";
-  m["seed"] = scan.seed;
-  m["sensor"] = scan.sensor;
-  m["rig"] = scan.rig;
-  m["background"] = scan.background;
-  nlohmann::ordered_json views = nlohmann::ordered_json::array();
-  for (const auto& v : scan.views) {
-    const std::string base = stem + "_" + v.rig.name;
-    write_file_atomic(dir / (base + ".pcd"), pcd_bytes(v.cloud, v.rig.pose));
-    write_file_atomic(dir / (base + ".ply"), ply_points_bytes(v.cloud));
-    write_file_atomic(dir / (base + "_depth.png"), depth_png_bytes(v.cloud));
-    write_file_atomic(dir / (base + "_rgb.png"), rgb_png_bytes(v.cloud));
-    write_file_atomic(dir / (base + "_label.png"), label_png_bytes(v.cloud));
+}  // namespace
+
+std::string merged_ply_bytes(const Scan& scan) {
+  std::size_t n = 0;
+  for (const auto& v : scan.views) n += v.cloud.valid_count();
+  std::string s = merged_ply_header(n);
+  for (std::size_t k = 0; k < scan.views.size(); ++k) s += merged_records(scan.views[k], k);
+  return s;
+}
+
+ScanWriter::ScanWriter(const Scan& description, const std::filesystem::path& dir, std::string stem, bool merged)
+    : dir_(dir), stem_(std::move(stem)), merged_(merged) {
+  std::filesystem::create_directories(dir_);
+  manifest_["format"] = "grapebench-scan/1";
+  manifest_["frames"] = "world: z up, bunch rachis top at the origin; camera: x right, y down, z forward";
+  manifest_["seed"] = description.seed;
+  manifest_["sensor"] = description.sensor;
+  manifest_["rig"] = description.rig;
+  manifest_["background"] = description.background;
+  manifest_["views"] = nlohmann::ordered_json::array();
+  if (merged_) {
+    merged_body_ = dir_ / (stem_ + "_merged.ply.body." + std::to_string(::getpid()));
+    std::ofstream(merged_body_, std::ios::binary | std::ios::trunc);
+  }
+}
+
+ScanWriter::~ScanWriter() {
+  std::error_code ec;
+  if (!merged_body_.empty()) std::filesystem::remove(merged_body_, ec);
+}
+
+void ScanWriter::add(const ScanView& v) {
+    const std::string base = stem_ + "_" + v.rig.name;
+    write_file_atomic(dir_ / (base + ".pcd"), pcd_bytes(v.cloud, v.rig.pose));
+    write_file_atomic(dir_ / (base + ".ply"), ply_points_bytes(v.cloud));
+    write_file_atomic(dir_ / (base + "_depth.png"), depth_png_bytes(v.cloud));
+    write_file_atomic(dir_ / (base + "_rgb.png"), rgb_png_bytes(v.cloud));
+    write_file_atomic(dir_ / (base + "_label.png"), label_png_bytes(v.cloud));
     std::vector<std::string> files = {base + ".pcd", base + ".ply", base + "_depth.png", base + "_rgb.png",
                                       base + "_label.png"};
     if (!v.cloud.left_image.empty()) {
-      write_file_atomic(dir / (base + "_left.png"), image_png_bytes(v.cloud.width, v.cloud.height, v.cloud.left_image));
-      write_file_atomic(dir / (base + "_right.png"),
+      write_file_atomic(dir_ / (base + "_left.png"), image_png_bytes(v.cloud.width, v.cloud.height, v.cloud.left_image));
+      write_file_atomic(dir_ / (base + "_right.png"),
                         image_png_bytes(v.cloud.width, v.cloud.height, v.cloud.right_image));
       files.push_back(base + "_left.png");
       files.push_back(base + "_right.png");
     }
     const auto& K = v.camera.K;
-    views.push_back(
+    manifest_["views"].push_back(
         {{"name", v.rig.name},
          {"camera_to_world", nlohmann::ordered_json::parse(json_matrix(v.rig.pose))},
          {"turntable_angle_deg", v.rig.turntable_angle_deg},
@@ -206,13 +248,43 @@ void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::s
            {"convention", "OpenCV: the centre of pixel (u, v) is at (u, v); u = fx x / z + cx"}}},
          {"valid_points", v.cloud.valid_count()},
          {"files", files}});
+  if (merged_) {
+    std::ofstream body(merged_body_, std::ios::binary | std::ios::app);
+    body << merged_records(v, views_);
+    merged_points_ += v.cloud.valid_count();
+    if (!body) throw InputError(merged_body_.string() + ": write failed (disk full?)");
   }
-  m["views"] = views;
-  if (merged) {
-    write_file_atomic(dir / (stem + "_merged.ply"), merged_ply_bytes(scan));
-    m["merged"] = stem + "_merged.ply";
+  ++views_;
+}
+
+void ScanWriter::finish() {
+  if (merged_) {
+    // Header and points into a temporary file beside the target, then renamed.
+    const std::filesystem::path target = dir_ / (stem_ + "_merged.ply");
+    const std::filesystem::path tmp = target.string() + ".tmp." + std::to_string(::getpid());
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      out << merged_ply_header(merged_points_);
+      std::ifstream body(merged_body_, std::ios::binary);
+      out << body.rdbuf();
+      out.flush();
+      if (!out) {
+        std::filesystem::remove(tmp);
+        throw InputError(target.string() + ": write failed (disk full?)");
+      }
+    }
+    std::filesystem::rename(tmp, target);
+    std::filesystem::remove(merged_body_);
+    merged_body_.clear();
+    manifest_["merged"] = stem_ + "_merged.ply";
   }
-  write_file_atomic(dir / (stem + "_scan.json"), m.dump(1) + "\n");
+  write_file_atomic(dir_ / (stem_ + "_scan.json"), manifest_.dump(1) + "\n");
+}
+
+void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem, bool merged) {
+  ScanWriter writer(scan, dir, stem, merged);
+  for (const auto& v : scan.views) writer.add(v);
+  writer.finish();
 }
 
 }  // namespace grapebench

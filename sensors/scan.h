@@ -5,6 +5,7 @@
 #include "sensors/sensor.h"
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,15 @@ struct Scan {
 Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
                 std::uint64_t seed);
 
+// What a scan is (sensor, rig, background, seed), without its views.
+Scan scan_description(const Sensor& sensor, const Rig& rig, const BackgroundSpec& background, std::uint64_t seed);
+
+// The same views, captured one at a time and handed to `consume` (view k), so a long
+// pass never holds more than one frame. Returns the scan's description (sensor, rig,
+// background, seed) without views.
+Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
+                std::uint64_t seed, const std::function<void(ScanView&&, std::size_t k)>& consume);
+
 // Files of one view: organised binary PCD (x y z rgb normal label berry, NaN where
 // invalid; points in the sensor frame, VIEWPOINT the camera-to-world pose, so PCL and
 // CloudCompare place each view in the world), binary PLY of the valid points (sensor
@@ -42,8 +52,28 @@ std::string label_png_bytes(const OrganisedCloud& cloud);  // 8-bit Part per pix
 std::string image_png_bytes(int width, int height, const std::vector<std::uint8_t>& rgb);  // W x H x 3
 
 // Writes `<dir>/<stem>_<view>.{pcd,ply}`, `_depth.png`, `_rgb.png`, `_label.png`
-// per view and `<dir>/<stem>_scan.json` (intrinsics in OpenCV's convention, poses,
-// sensor, rig, files); with `merged`, also `<dir>/<stem>_merged.ply`.
+// per view as each comes, then `<dir>/<stem>_scan.json` (intrinsics in OpenCV's
+// convention, poses, sensor, rig, files); with `merged`, also `<dir>/<stem>_merged.ply`
+// (its points gathered in a temporary file as the views come, not in memory).
+class ScanWriter {
+ public:
+  // `description`: the scan's sensor, rig, background and seed (its views unused).
+  ScanWriter(const Scan& description, const std::filesystem::path& dir, std::string stem, bool merged);
+  ScanWriter(const ScanWriter&) = delete;
+  ScanWriter& operator=(const ScanWriter&) = delete;
+  ~ScanWriter();  // removes the temporary file of an unfinished merged cloud
+  void add(const ScanView& view);
+  void finish();
+
+ private:
+  std::filesystem::path dir_;
+  std::string stem_;
+  bool merged_;
+  nlohmann::ordered_json manifest_;
+  std::filesystem::path merged_body_;  // the merged cloud's points so far (binary records)
+  std::size_t merged_points_ = 0;
+  std::size_t views_ = 0;
+};
 void write_scan(const Scan& scan, const std::filesystem::path& dir, const std::string& stem, bool merged = false);
 
 }  // namespace grapebench

@@ -22,9 +22,12 @@ struct CaseCapture {
 // stream as `grapebench scan`, so a case's scan can be written and inspected.
 CaseCapture capture_case(const Scene& scene, const BunchJob& job);
 
-// A case of a protocol that measures each view alone: the capture (timed), then
-// `measure`; what either throws becomes the case's error.
+// A case of a protocol that measures each view alone: the bunch, its truth and ray
+// scene, then each view measured as soon as it is captured (`measure`, view k), so a
+// pass of a thousand frames holds one; `finish` after the last. What any of them
+// throws becomes the case's error. scan_seconds times the bunch and the captures.
+using ViewMeasure = std::function<void(const Bunch&, const GroundTruth&, const ScanView&, std::size_t k, CaseResult&)>;
 CaseResult measure_views(const Condition& condition, int condition_index, const BunchJob& job,
-                         const std::function<void(const CaseCapture&, CaseResult&)>& measure);
+                         const ViewMeasure& measure, const std::function<void(CaseResult&)>& finish = {});
 
 }  // namespace grapebench

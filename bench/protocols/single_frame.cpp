@@ -96,51 +96,55 @@ EstimatorInput roi_input(const ScanView& view, int index, const Roi& roi, const 
 
 }  // namespace
 
-void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt, CaseResult& r) {
+void measure_frame(const Scene& scene, const ScanView& view, std::size_t k, const GroundTruth& gt, FrameTally& tally,
+                   CaseResult& r) {
   const PipelineSpec& pl = scene.pipeline;
-  std::size_t auto_kept = 0, auto_bunch = 0, frame_bunch = 0;
-  r.points = 0;
-  for (std::size_t k = 0; k < scan.views.size(); ++k) {
-    const OrganisedCloud& c = scan.views[k].cloud;
-    // Every return of the frame (the paper's point cloud), then the view filters with
-    // each point's pixel carried along.
-    auto [cloud, pixel] = frame_returns(c);
-    apply_filters(pl.view_filters, cloud, pixel);
-    std::vector<std::uint8_t> label(pixel.size());
-    std::vector<Rgb8> rgb(pixel.size());
-    for (std::size_t i = 0; i < pixel.size(); ++i) {
-      label[i] = c.label[pixel[i]];
-      rgb[i] = c.rgb[pixel[i]];
-      frame_bunch += on_bunch(label[i]);
+  const OrganisedCloud& c = view.cloud;
+  // Every return of the frame (the paper's point cloud), then the view filters with
+  // each point's pixel carried along.
+  auto [cloud, pixel] = frame_returns(c);
+  apply_filters(pl.view_filters, cloud, pixel);
+  std::vector<std::uint8_t> label(pixel.size());
+  std::vector<Rgb8> rgb(pixel.size());
+  for (std::size_t i = 0; i < pixel.size(); ++i) {
+    label[i] = c.label[pixel[i]];
+    rgb[i] = c.rgb[pixel[i]];
+    tally.frame_bunch += on_bunch(label[i]);
+  }
+  r.points += pixel.size();
+  for (const Roi& roi : frame_rois(pl, cloud, rgb, label)) {
+    const Region tuned = pl.fine_tune ? fine_tune_region(cloud, rgb, roi.region, pl.roi) : roi.region;
+    std::size_t bunch = 0;
+    for (const auto row : tuned) bunch += on_bunch(label[static_cast<std::size_t>(row)]);
+    if (roi.kind == "auto_r") {
+      tally.auto_kept += tuned.size();
+      tally.auto_bunch += bunch;
     }
-    r.points += pixel.size();
-    for (const Roi& roi : frame_rois(pl, cloud, rgb, label)) {
-      const Region tuned = pl.fine_tune ? fine_tune_region(cloud, rgb, roi.region, pl.roi) : roi.region;
-      std::size_t bunch = 0;
-      for (const auto row : tuned) bunch += on_bunch(label[static_cast<std::size_t>(row)]);
-      if (roi.kind == "auto_r") {
-        auto_kept += tuned.size();
-        auto_bunch += bunch;
-      }
-      const std::string error = tuned.empty() ? "fine tuning found no grape-coloured cluster in the ROI" : "";
-      const EstimatorInput in = roi_input(scan.views[k], static_cast<int>(k), roi, tuned, cloud, pixel);
-      for (EstimateRow row : run_estimators(scene.estimators, in, gt, error)) {
-        row.frame = static_cast<int>(k);
-        row.roi = roi.kind;
-        row.region = roi.index;
-        row.region_precision = tuned.empty() ? 0 : static_cast<double>(bunch) / static_cast<double>(tuned.size());
-        r.rows.push_back(std::move(row));
-      }
+    const std::string error = tuned.empty() ? "fine tuning found no grape-coloured cluster in the ROI" : "";
+    const EstimatorInput in = roi_input(view, static_cast<int>(k), roi, tuned, cloud, pixel);
+    for (EstimateRow row : run_estimators(scene.estimators, in, gt, error)) {
+      row.frame = static_cast<int>(k);
+      row.roi = roi.kind;
+      row.region = roi.index;
+      row.region_precision = tuned.empty() ? 0 : static_cast<double>(bunch) / static_cast<double>(tuned.size());
+      r.rows.push_back(std::move(row));
     }
   }
-  r.segmentation_precision = auto_kept ? static_cast<double>(auto_bunch) / static_cast<double>(auto_kept) : 0;
-  r.segmentation_recall = frame_bunch ? static_cast<double>(auto_bunch) / static_cast<double>(frame_bunch) : 0;
+}
+
+void finish_frames(const FrameTally& t, CaseResult& r) {
+  r.segmentation_precision = t.auto_kept ? static_cast<double>(t.auto_bunch) / static_cast<double>(t.auto_kept) : 0;
+  r.segmentation_recall = t.frame_bunch ? static_cast<double>(t.auto_bunch) / static_cast<double>(t.frame_bunch) : 0;
 }
 
 CaseResult run_single_frame(const Condition& condition, int condition_index, const BunchJob& job) {
-  return measure_views(condition, condition_index, job, [&](const CaseCapture& capture, CaseResult& r) {
-    measure_frames(condition.scene, capture.scan, capture.truth, r);
-  });
+  FrameTally tally;
+  return measure_views(
+      condition, condition_index, job,
+      [&](const Bunch&, const GroundTruth& truth, const ScanView& view, std::size_t k, CaseResult& r) {
+        measure_frame(condition.scene, view, k, truth, tally, r);
+      },
+      [&](CaseResult& r) { finish_frames(tally, r); });
 }
 
 }  // namespace grapebench

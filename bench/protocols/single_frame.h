@@ -23,7 +23,14 @@ FrameReturns frame_returns(const OrganisedCloud& c);
 // quantity, frame, ROI kind and region to r.rows; r.points counts the filtered returns
 // and r.segmentation_precision / recall score the tuned automatic regions against the
 // labels.
-void measure_frames(const Scene& scene, const Scan& scan, const GroundTruth& gt, CaseResult& r);
+// One view (k) at a time; `tally` carries the segmentation counts to finish_frames,
+// which sets the precision and recall. r.points must start at 0.
+struct FrameTally {
+  std::size_t auto_kept = 0, auto_bunch = 0, frame_bunch = 0;
+};
+void measure_frame(const Scene& scene, const ScanView& view, std::size_t k, const GroundTruth& gt, FrameTally& tally,
+                   CaseResult& r);
+void finish_frames(const FrameTally& tally, CaseResult& r);
 
 CaseResult run_single_frame(const Condition& condition, int condition_index, const BunchJob& job);
 

@@ -182,32 +182,30 @@ std::vector<EstimateRow> bounding_volume_rows(const EstimatorSpec& spec, const T
 
 }  // namespace
 
-void measure_pairs(const Scene& scene, const Scan& scan, const Bunch& bunch, const GroundTruth& gt, CaseResult& r) {
+void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const Bunch& bunch, const GroundTruth& gt,
+                  CaseResult& r) {
   const PipelineSpec& pl = scene.pipeline;
-  for (std::size_t k = 0; k < scan.views.size(); ++k) {
-    const ScanView& view = scan.views[k];
-    EstimatorInput in = stereo_input(view);
-    in.frame->index = static_cast<int>(k);
-    const StereoTruth truth = stereo_truth(view, bunch, pl.berry_visible_fraction);
-    for (const EstimatorSpec& spec : scene.estimators) {
-      const TimedEstimate t = run_estimator(spec, in);
-      std::vector<EstimateRow> rows = bounding_volume_rows(spec, t, gt);
-      const EstimateRow base = estimate_row(spec, t);
-      for (EstimateRow& row : cutting_point_rows(base, t.estimate, view, truth, pl.cut_tolerance)) rows.push_back(row);
-      for (EstimateRow& row : berry_rows(base, t.estimate, truth)) rows.push_back(row);
-      for (EstimateRow& row : rows) {
-        row.frame = static_cast<int>(k);
-        row.roi = view.rig.name;
-        r.rows.push_back(std::move(row));
-      }
+  EstimatorInput in = stereo_input(view);
+  in.frame->index = static_cast<int>(k);
+  const StereoTruth truth = stereo_truth(view, bunch, pl.berry_visible_fraction);
+  for (const EstimatorSpec& spec : scene.estimators) {
+    const TimedEstimate t = run_estimator(spec, in);
+    std::vector<EstimateRow> rows = bounding_volume_rows(spec, t, gt);
+    const EstimateRow base = estimate_row(spec, t);
+    for (EstimateRow& row : cutting_point_rows(base, t.estimate, view, truth, pl.cut_tolerance)) rows.push_back(row);
+    for (EstimateRow& row : berry_rows(base, t.estimate, truth)) rows.push_back(row);
+    for (EstimateRow& row : rows) {
+      row.frame = static_cast<int>(k);
+      row.roi = view.rig.name;
+      r.rows.push_back(std::move(row));
     }
   }
 }
 
 CaseResult run_stereo_pair(const Condition& condition, int condition_index, const BunchJob& job) {
-  return measure_views(condition, condition_index, job, [&](const CaseCapture& capture, CaseResult& r) {
-    measure_pairs(condition.scene, capture.scan, capture.bunch, capture.truth, r);
-  });
+  return measure_views(condition, condition_index, job,
+                       [&](const Bunch& bunch, const GroundTruth& truth, const ScanView& view, std::size_t k,
+                           CaseResult& r) { measure_pair(condition.scene, view, k, bunch, truth, r); });
 }
 
 }  // namespace grapebench

@@ -43,7 +43,9 @@ std::vector<EstimateRow> cutting_point_rows(const EstimateRow& base, const Estim
 // over the matched) and berry_radius_error (px, signed mean, detection - truth).
 std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth);
 
-void measure_pairs(const Scene& scene, const Scan& scan, const Bunch& bunch, const GroundTruth& gt, CaseResult& r);
+// Every estimator on view k's pair; appends its rows to r.rows.
+void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const Bunch& bunch, const GroundTruth& gt,
+                  CaseResult& r);
 
 CaseResult run_stereo_pair(const Condition& condition, int condition_index, const BunchJob& job);
 
