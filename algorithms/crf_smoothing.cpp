@@ -6,7 +6,9 @@
 // BM_crf); the MaxFlow one (0.8 s) left isolated noise on the grid of
 // tests/algorithms/crf_smoothing_test.cpp that the others remove.
 #pragma GCC diagnostic push
+#if !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <CGAL/boost/graph/alpha_expansion_graphcut.h>
 
 #include <algorithm>

@@ -22,12 +22,11 @@ RevolvedBoundingVolume revolved_bounding_volume(const Vec3& origin, const std::v
   }
   std::vector<K::Point_2> hull;
   CGAL::convex_hull_2(section.begin(), section.end(), std::back_inserter(hull));
-  double area2 = 0, moment6 = 0, y_lo = 0, y_hi = 0;  // 2A and 6 A x_c (shoelace)
+  double moment6 = 0, y_lo = 0, y_hi = 0;  // 6 A x_c (shoelace); Pappus needs no A alone
   for (std::size_t i = 0; i < hull.size(); ++i) {
     const K::Point_2& a = hull[i];
     const K::Point_2& b = hull[(i + 1) % hull.size()];
     const double cross = a.x() * b.y() - b.x() * a.y();
-    area2 += cross;
     moment6 += (a.x() + b.x()) * cross;
     y_lo = std::min(y_lo, a.y());
     y_hi = std::max(y_hi, a.y());

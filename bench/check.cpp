@@ -74,7 +74,9 @@ CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::js
   CheckResult res;
   std::ostringstream d;
   char line[400];
-  for (const auto& [key, b] : base) {
+  for (const auto& row : base) {
+    const Key& key = row.first;  // not a structured binding: the lambda below captures it (clang 14)
+    const nlohmann::json& b = row.second;
     const auto it = now.find(key);
     if (it == now.end()) {
       res.pass = false;

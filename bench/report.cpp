@@ -599,8 +599,9 @@ const SizeErrorCell* find_cell(const std::vector<SizeErrorCell>& cells, const st
 void size_error_table(const ReportContext& ctx, std::ostringstream& h) {
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   const auto ests = size_error_estimators(size_cells);
-  const auto find = [&](const std::string& e, const std::string& k, int cond) {
-    return find_cell(size_cells, e, k, cond);
+  // Init-captures: clang 14 cannot capture structured bindings.
+  const auto find = [&cells = size_cells](const std::string& e, const std::string& k, int cond) {
+    return find_cell(cells, e, k, cond);
   };
   h << "<h2>Size error (seed 003 Table II)</h2>\n<p>Err = 0.5 |G1 - L| + 0.5 |G2 - W| (Eq. 3; measures and truths "
        "larger first), cm, mean +- sd over the fine-tuned ROIs (count); Filter keeps Err &lt; 10 cm. All conditions "
@@ -636,8 +637,9 @@ void size_error_table(const ReportContext& ctx, std::ostringstream& h) {
 void size_error_figures(const ReportContext& ctx, Report& rep, std::ostringstream& h) {
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
   const auto ests = size_error_estimators(size_cells);
-  const auto find = [&](const std::string& e, const std::string& k, int cond) {
-    return find_cell(size_cells, e, k, cond);
+  // Init-captures: clang 14 cannot capture structured bindings.
+  const auto find = [&cells = size_cells](const std::string& e, const std::string& k, int cond) {
+    return find_cell(cells, e, k, cond);
   };
   std::string est = ests.front(), roi = "manual_r";
   for (const auto& spec : set.base.estimators) {
@@ -645,9 +647,9 @@ void size_error_figures(const ReportContext& ctx, Report& rep, std::ostringstrea
       est = spec.name;
   }
   if (!find(est, roi, -1)) roi = find(est, "auto_r", -1) ? "auto_r" : kRoiKinds.front();
-  const auto axis_value = [&](std::size_t a, int cond) {
-    const auto& ax = set.base.sweep[a];
-    const double v = set.conditions[static_cast<std::size_t>(cond)].values[a];
+  const auto axis_value = [&s = set](std::size_t a, int cond) {
+    const auto& ax = s.base.sweep[a];
+    const double v = s.conditions[static_cast<std::size_t>(cond)].values[a];
     return ax.names.empty() ? fmt(v, 3) : ax.names[static_cast<std::size_t>(v)];
   };
   const std::size_t axes = set.base.sweep.size();

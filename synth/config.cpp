@@ -1,5 +1,8 @@
 #include "synth/config.h"
 
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
+
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -64,15 +67,40 @@ void check_strict(const YAML::Node& node, const std::string& name, int depth) {
 
 }  // namespace
 
+namespace {
+
+// Events of a document, ignored: only whether a second document exists matters, and
+// where it starts.
+class DocumentCounter : public YAML::EventHandler {
+ public:
+  int line = -1;  // 0-based line of the last document's start
+  void OnDocumentStart(const YAML::Mark& m) override { line = m.line; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+}  // namespace
+
 YAML::Node ConfigNode::parse_strict(const std::string& text, const std::string& name) {
   YAML::Node root;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
-    if (documents.size() > 1) {
-      throw InputError(name + ":" + std::to_string(documents[1].Mark().line + 1) +
-                       ": a second YAML document; a scene file holds one");
+    // Not YAML::LoadAll: yaml-cpp 0.7 loops forever, allocating, on a stray ","
+    // outside a flow collection (found by tests/fuzz/scene_fuzz.cpp). The first
+    // document is loaded; the parser is then asked for a second one, once.
+    root = YAML::Load(text);
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    DocumentCounter counter;
+    if (parser.HandleNextDocument(counter) && parser.HandleNextDocument(counter)) {
+      throw InputError(name + ":" + std::to_string(counter.line + 1) +
+                       ": a second YAML document, or text after the first; a scene file holds one");
     }
-    if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& e) {
     throw InputError(name + ":" + std::to_string(e.mark.line + 1) +
                      ": YAML syntax error: " + e.msg);

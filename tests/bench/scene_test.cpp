@@ -60,7 +60,10 @@ TEST(Scene, StrictYamlAndSafeNames) {
       {"seed: 5\nseed: 999\nbunches:\n  - preset: table-red\n", "scene.yaml:2: 'seed' is given twice"},
       {"seed: 5\nbunches:\n  - preset: table-red\n    count: 1\n    count: 2\n", "scene.yaml:5: 'count' is given twice"},
       {"seed: !!str 5\nbunches:\n  - preset: table-red\n", "scene.yaml:1: explicit YAML tag"},
-      {"seed: 5\nbunches:\n  - preset: table-red\n---\nseed: 6\n", "scene.yaml:5: a second YAML document"},
+      {"seed: 5\nbunches:\n  - preset: table-red\n---\nseed: 6\n", "scene.yaml:4: a second YAML document"},
+      // Found by tests/fuzz/scene_fuzz.cpp: a stray comma made yaml-cpp's LoadAll loop
+      // forever, allocating (a scene file of 1 KB took the machine's memory).
+      {",\nseed: 5\nbunches:\n  - preset: table-red\n", "scene.yaml:1: a second YAML document, or text after the first"},
       {"seed: 5\n? [a, b]\n: 3\nbunches:\n  - preset: table-red\n", "scene.yaml:2: a key must be a plain name"},
       {"name: ../../x\nseed: 5\nbunches:\n  - preset: table-red\n", "'../../x' is not a safe folder name"},
       {"name: /tmp/x\nseed: 5\nbunches:\n  - preset: table-red\n", "'/tmp/x' is not a safe folder name"},

@@ -88,7 +88,9 @@ TEST(UnionMesh, FacesCarryTheirPartAndBerry) {
   std::map<Part, int> parts;
   for (std::size_t f = 0; f < m.faces.size(); ++f) {
     ++parts[m.face_part[f]];
-    if (m.face_part[f] == Part::Berry) EXPECT_GE(m.face_berry[f], 0);
+    if (m.face_part[f] == Part::Berry) {
+      EXPECT_GE(m.face_berry[f], 0);
+    }
   }
   for (const Part p : {Part::Berry, Part::Pedicel, Part::Rachis, Part::Peduncle}) EXPECT_GT(parts[p], 0);
 }
