@@ -1,22 +1,15 @@
 #include "algorithms/colmap_sfm.h"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
-#include <thread>
 
+#include "algorithms/confined_program.h"
 #include "algorithms/temp_folder.h"
 #include "synth/png.h"
-
-extern char** environ;
 
 namespace grapebench {
 
@@ -27,45 +20,35 @@ const ParamTable<ColmapParams>& colmap_param_table() {
   static const ParamTable<P> table =
       ParamTable<P>()
           .real("timeout", "s", &P::timeout, 1, 86400, "the whole COLMAP run; then its process group is killed")
-          .integer("overlap", "count", &P::overlap, 1, 100, "sequential matcher: images matched after each one");
+          .integer("overlap", "count", &P::overlap, 1, 100, "sequential matcher: images matched after each one")
+          .choice("sandbox", &P::sandbox, {{"bwrap", ProgramLimits::Sandbox::Bwrap}, {"none", ProgramLimits::Sandbox::None}},
+                  "bwrap: COLMAP runs in bubblewrap, its temporary folder the only one it can write; none: where "
+                  "user namespaces are not available");
   return table;
 }
 
 namespace {
 
-// Runs args in its own process group with stdout and stderr appended to `log`; kills
-// the group at the deadline.
-void run(std::vector<std::string> args, const fs::path& log, std::chrono::steady_clock::time_point deadline) {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  const std::string log_path = log.string();
-  posix_spawn_file_actions_addopen(&fa, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
-  posix_spawnattr_setpgroup(&attr, 0);
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0], &fa, &attr, argv.data(), environ);
-  posix_spawnattr_destroy(&attr);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) throw InputError("colmap: cannot start '" + args[0] + "' (apt-get install colmap)");
-  int status = 0;
-  for (;;) {
-    if (waitpid(pid, &status, WNOHANG) == pid) break;
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(-pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      throw InputError("colmap: " + args[1] + " timed out");
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+// Runs one COLMAP step confined to the run's folder (algorithms/confined_program.h:
+// bubblewrap, the process tree killed when the step ends or at the deadline); returns
+// the tail of what it logged (COLMAP logs to stderr).
+std::string run(const std::vector<std::string>& args, const fs::path& dir, const ColmapParams& p,
+                std::chrono::steady_clock::time_point deadline) {
+  ProgramLimits limits;
+  limits.sandbox = p.sandbox;
+  limits.cpu_seconds = p.timeout + 1;
+  std::unique_ptr<ConfinedProgram> prog;
+  try {
+    prog = std::make_unique<ConfinedProgram>(args, dir, limits);
+  } catch (const std::runtime_error& e) {
+    throw InputError("colmap: cannot start '" + args[0] + "' (apt-get install colmap): " + e.what());
   }
-  kill(-pid, SIGKILL);  // nothing of the group outlives its step
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw InputError("colmap " + args[1] + " failed: " + file_tail(log, 400));
+  const ConfinedProgram::End end = prog->wait(deadline);
+  if (end == ConfinedProgram::End::TimedOut) throw InputError("colmap: " + args[1] + " timed out");
+  if (end == ConfinedProgram::End::TooMuchOutput) throw InputError("colmap " + args[1] + ": more than 16 MiB of log");
+  if (!prog->failure().empty())
+    throw InputError("colmap " + args[1] + " failed (" + prog->failure() + "): " + prog->error_tail());
+  return prog->error_tail();
 }
 
 }  // namespace
@@ -107,7 +90,7 @@ ColmapPoses colmap_sfm(const std::vector<RgbImage>& images, double fx, double fy
   if (images.size() < 2) throw InputError("colmap: needs at least two images");
   const TempFolder dir("grapebench-colmap");
   const fs::path img = dir.path / "images", sparse = dir.path / "sparse", txt = dir.path / "txt",
-                 log = dir.path / "log.txt", db = dir.path / "db.sqlite";
+                 db = dir.path / "db.sqlite";
   fs::create_directories(img), fs::create_directories(sparse), fs::create_directories(txt);
   for (std::size_t k = 0; k < images.size(); ++k) {
     char name[32];
@@ -125,19 +108,19 @@ ColmapPoses colmap_sfm(const std::vector<RgbImage>& images, double fx, double fy
   run({p.program, "feature_extractor", "--random_seed", s, "--database_path", db.string(), "--image_path", img.string(),
        "--ImageReader.camera_model", "PINHOLE", "--ImageReader.single_camera", "1", "--ImageReader.camera_params", params,
        "--SiftExtraction.use_gpu", "0", "--SiftExtraction.num_threads", "1"},
-      log, deadline);
+      dir.path, p, deadline);
   run({p.program, "sequential_matcher", "--random_seed", s, "--database_path", db.string(), "--SiftMatching.use_gpu",
        "0", "--SiftMatching.num_threads", "1", "--SequentialMatching.overlap", std::to_string(p.overlap)},
-      log, deadline);
-  run({p.program, "mapper", "--random_seed", s, "--database_path", db.string(), "--image_path", img.string(),
+      dir.path, p, deadline);
+  const std::string mapper_log = run({p.program, "mapper", "--random_seed", s, "--database_path", db.string(), "--image_path", img.string(),
        "--output_path", sparse.string(), "--Mapper.num_threads", "1", "--Mapper.multiple_models", "0",
        "--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
        "--Mapper.ba_refine_extra_params", "0", "--Mapper.init_min_tri_angle", "4"},
-      log, deadline);
-  if (!fs::exists(sparse / "0")) throw InputError("colmap mapper made no model: " + file_tail(log, 400));
+      dir.path, p, deadline);
+  if (!fs::exists(sparse / "0")) throw InputError("colmap mapper made no model: " + mapper_log);
   run({p.program, "model_converter", "--input_path", (sparse / "0").string(), "--output_path", txt.string(),
        "--output_type", "TXT"},
-      log, deadline);
+      dir.path, p, deadline);
   std::ifstream in(txt / "images.txt");
   std::stringstream text;
   text << in.rdbuf();
@@ -152,7 +135,7 @@ ColmapPoses colmap_sfm(const std::vector<RgbImage>& images, double fx, double fy
   }
   std::ifstream pts(txt / "points3D.txt");
   for (std::string line; std::getline(pts, line);) out.points3d += !line.empty() && line[0] != '#';
-  out.log_tail = file_tail(log, 400);
+  out.log_tail = mapper_log;
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/confined_program.h"
 #include "algorithms/stereo_pair.h"
 #include "synth/param_table.h"
 
@@ -19,6 +20,7 @@ struct ColmapParams {
   std::string program = "colmap";  // looked up in PATH
   double timeout = 600;            // s, the whole run; then its process group is killed
   int overlap = 5;                 // sequential matcher: each image against this many next ones
+  ProgramLimits::Sandbox sandbox = ProgramLimits::Sandbox::Bwrap;
 };
 const ParamTable<ColmapParams>& colmap_param_table();
 

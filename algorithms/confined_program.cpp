@@ -229,11 +229,9 @@ ConfinedProgram::~ConfinedProgram() {
     if (fd >= 0) close(fd);
 }
 
-bool ConfinedProgram::read_output() {
+bool ConfinedProgram::read_output(short out_events, short err_events) {
   for (int* fd : {&out_, &err_}) {
-    if (*fd < 0) continue;
-    pollfd p{*fd, POLLIN, 0};
-    if (poll(&p, 1, 0) <= 0) continue;
+    if (*fd < 0 || !(fd == &out_ ? out_events : err_events)) continue;
     char chunk[65536];
     const ssize_t k = read(*fd, chunk, sizeof chunk);
     if (k <= 0) {
@@ -276,14 +274,17 @@ ConfinedProgram::End ConfinedProgram::wait_fd(int fd, short events, Clock::time_
       return End::Exited;
     }
     if (fd >= 0 && fds[0].revents) return End::Ready;
-    if ((fds[1].revents || fds[2].revents) && !read_output()) {
+    if ((fds[1].revents || fds[2].revents) && !read_output(fds[1].revents, fds[2].revents)) {
       stop();
       return End::TooMuchOutput;
     }
     if (fds[3].revents) reap();
   }
-  // Everything it started is dead: its pipes end after what is in them.
-  while ((out_ >= 0 || err_ >= 0) && read_output()) {
+  // Everything it started is dead: its pipes end after what is in them. Never block
+  // here: a descriptor nothing writes to any more but that is not at its end is left.
+  while (out_ >= 0 || err_ >= 0) {
+    pollfd fds[2] = {{out_, POLLIN, 0}, {err_, POLLIN, 0}};
+    if (poll(fds, 2, 0) <= 0 || !read_output(fds[0].revents, fds[1].revents)) break;
   }
   return End::Exited;
 }

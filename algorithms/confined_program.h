@@ -61,7 +61,9 @@ class ConfinedProgram {
   std::string error_tail() const;
 
  private:
-  bool read_output();  // false once the output cap is passed
+  // Reads once from stdout and stderr where poll reported events; false once the
+  // output cap is passed.
+  bool read_output(short out_events, short err_events);
   void reap();
 
   pid_t warden_ = -1;

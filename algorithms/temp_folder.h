@@ -1,8 +1,7 @@
 // What the estimators that run other programs (external_estimator, colmap_sfm) share:
-// a private temporary folder removed with its owner, and the tail of a log file.
+// a private temporary folder removed with its owner.
 #pragma once
 
-#include <cstddef>
 #include <filesystem>
 #include <string>
 
@@ -18,9 +17,5 @@ class TempFolder {
   ~TempFolder();
   std::filesystem::path path;
 };
-
-// The last n bytes of a file, read from there (a program may write gigabytes),
-// "..." in front when cut, trailing newlines and spaces trimmed; "" when unreadable.
-std::string file_tail(const std::filesystem::path& p, std::size_t n);
 
 }  // namespace grapebench

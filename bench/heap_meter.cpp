@@ -55,10 +55,13 @@ struct ThreadRun {
 };
 thread_local ThreadRun tls_run;
 
+#ifdef GRAPEBENCH_HEAP_METER
+// The counter operator new charges (only with the replaced operators).
 HeapCounter* active_counter() {
   HeapCounter* c = tls_run.counter;
   return c && c->generation.load(std::memory_order_relaxed) == tls_run.generation ? c : nullptr;
 }
+#endif
 
 // The pool outlives every static destructor (a pointer that is never deleted), so
 // counters stay reachable to the end and LeakSanitizer sees no leak.
