@@ -3,8 +3,6 @@
 #include <pcl/features/normal_3d.h>
 #include <pcl/filters/crop_box.h>
 #include <pcl/filters/statistical_outlier_removal.h>
-#include <pcl/filters/voxel_grid.h>
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
@@ -120,30 +118,60 @@ FilteredCloud statistical_outlier_removal(const PointCloud& cloud, const Outlier
 FilteredCloud voxel_grid(const PointCloud& cloud, const VoxelGridParams& p) {
   require_points(cloud, 1, "voxel_grid");
   check_range(p.leaf, 1e-4, 1, "voxel_grid", "leaf", " m");
-  Eigen::RowVector3d centre;
-  const auto in = to_pcl(cloud, centre);
-  const Eigen::RowVector3d span = cloud.colwise().maxCoeff() - cloud.colwise().minCoeff();
-  if ((span.array() / p.leaf).prod() > 9e18) throw InputError("voxel_grid: the cloud spans too many voxels of this leaf");
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setInputCloud(in);
-  const auto leaf = static_cast<float>(p.leaf);
-  grid.setLeafSize(leaf, leaf, leaf);
-  Cloud out;
-  grid.filter(out);
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(in);
-  FilteredCloud f;
-  f.points.resize(static_cast<Eigen::Index>(out.size()), 3);
-  f.source.resize(out.size());
-  pcl::Indices nn(1);
-  std::vector<float> d2(1);
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const auto& q = out[i];
-    f.points.row(static_cast<Eigen::Index>(i)) = Eigen::RowVector3d(q.x, q.y, q.z) + centre;
-    tree.nearestKSearch(q, 1, nn, d2);
-    f.source[i] = nn[0];
+  // The grid of Open3D's VoxelDownSample: cells start half a leaf below the cloud's
+  // smallest coordinates, so both libraries keep the same voxels.
+  const Eigen::RowVector3d lo = cloud.colwise().minCoeff().array() - 0.5 * p.leaf;
+  const Eigen::RowVector3d span = cloud.colwise().maxCoeff() - lo;
+  Eigen::Array<std::uint64_t, 1, 3> dims;
+  for (int a = 0; a < 3; ++a) dims(a) = static_cast<std::uint64_t>(std::floor(span(a) / p.leaf)) + 1;
+  if ((span.array() / p.leaf + 1).prod() > 9e18) throw InputError("voxel_grid: the cloud spans too many voxels of this leaf");
+  const auto n = static_cast<std::size_t>(cloud.rows());
+  // Each point's cell as one number, x fastest.
+  std::vector<std::uint64_t> cell(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t c[3];
+    for (int a = 0; a < 3; ++a) {
+      const double q = std::floor((cloud(static_cast<Eigen::Index>(i), a) - lo(a)) / p.leaf);
+      c[a] = std::min(static_cast<std::uint64_t>(std::max(q, 0.0)), dims(a) - 1);
+    }
+    cell[i] = c[0] + dims(0) * (c[1] + dims(1) * c[2]);
   }
-  f.notes = std::to_string(cloud.rows()) + " points to " + std::to_string(out.size()) + " voxels";
+  // The points in order of their cell (ties by row): a counting sort over a dense grid
+  // when it is small beside the cloud, else a comparison sort.
+  std::vector<std::uint32_t> order(n);
+  const double cells = static_cast<double>(dims(0)) * static_cast<double>(dims(1)) * static_cast<double>(dims(2));
+  if (cells <= 4.0 * static_cast<double>(n) + 65536) {
+    std::vector<std::uint32_t> start(static_cast<std::size_t>(cells) + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++start[cell[i] + 1];
+    for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    for (std::size_t i = 0; i < n; ++i) order[start[cell[i]]++] = static_cast<std::uint32_t>(i);
+  } else {
+    for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return cell[a] != cell[b] ? cell[a] < cell[b] : a < b;
+    });
+  }
+  FilteredCloud f;
+  std::vector<Eigen::RowVector3d> centroids;
+  for (std::size_t b = 0; b < n;) {
+    std::size_t e = b;
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    for (; e < n && cell[order[e]] == cell[order[b]]; ++e) sum += cloud.row(order[e]);
+    const Eigen::RowVector3d centroid = sum / static_cast<double>(e - b);
+    // The voxel's own point nearest its centroid (the first of equals).
+    std::uint32_t best = order[b];
+    double best_d2 = std::numeric_limits<double>::infinity();
+    for (std::size_t k = b; k < e; ++k) {
+      const double d2 = (cloud.row(order[k]) - centroid).squaredNorm();
+      if (d2 < best_d2) best_d2 = d2, best = order[k];
+    }
+    centroids.push_back(centroid);
+    f.source.push_back(best);
+    b = e;
+  }
+  f.points.resize(static_cast<Eigen::Index>(centroids.size()), 3);
+  for (std::size_t k = 0; k < centroids.size(); ++k) f.points.row(static_cast<Eigen::Index>(k)) = centroids[k];
+  f.notes = std::to_string(cloud.rows()) + " points to " + std::to_string(centroids.size()) + " voxels";
   return f;
 }
 

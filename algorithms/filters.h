@@ -51,9 +51,11 @@ struct OutlierRemovalParams {
 const ParamTable<OutlierRemovalParams>& outlier_removal_param_table();
 FilteredCloud statistical_outlier_removal(const PointCloud& cloud, const OutlierRemovalParams& params);
 
-// Voxel-grid downsampling (seed 000 Sect. "Point Cloud Registration", PCL VoxelGrid):
-// one point per occupied voxel, the centroid of its points; `source` is the input
-// point nearest that centroid.
+// Voxel-grid downsampling (seed 000 Sect. "Point Cloud Registration", where PCL's
+// VoxelGrid did it): one point per occupied voxel, the centroid of its points, in
+// order of the voxel (x fastest); `source` is the voxel's point nearest its centroid.
+// The grid starts half a leaf below the cloud's smallest coordinates (Open3D's
+// VoxelDownSample), in double precision; a dense counting sort, not a k-d tree.
 struct VoxelGridParams {
   double leaf = 0.002;  // m, voxel edge, [1e-4, 1]; seed 000 gives no value
 };

@@ -1,5 +1,6 @@
 // A k-d tree over a point cloud (nanoflann, Debian's libnanoflann-dev), for radius and
-// nearest-neighbour queries of the per-point steps (seed 004's features and CRF).
+// nearest-neighbour queries of the per-point steps (seed 004's features and CRF) and
+// of ICP's correspondences.
 // The cloud must outlive the index; queries are const and safe from many threads.
 #pragma once
 
@@ -29,6 +30,15 @@ class PointIndex {
     Visitor<Visit> v{radius * radius, visit};
     const double query[3] = {q.x(), q.y(), q.z()};
     tree_.findNeighbors(v, query, nanoflann::SearchParams());
+  }
+
+  // The nearest point strictly within `radius` (m) of q as (index, squared distance), or
+  // index -1 when there is none. The search is pruned at the radius from the start.
+  std::pair<std::int64_t, double> nearest_within(const Vec3& q, double radius) const {
+    Nearest best{radius * radius, -1};
+    const double query[3] = {q.x(), q.y(), q.z()};
+    tree_.findNeighbors(best, query, nanoflann::SearchParams());
+    return {best.index, best.d2};
   }
 
   // Up to k nearest points (index, squared distance), nearest first, ties by index.
@@ -63,6 +73,16 @@ class PointIndex {
     double worstDist() const { return radius2; }
     bool addPoint(double d2, std::uint32_t i) {
       if (d2 < radius2) visit(i, d2);
+      return true;
+    }
+  };
+  struct Nearest {
+    double d2;
+    std::int64_t index;
+    bool full() const { return true; }
+    double worstDist() const { return d2; }
+    bool addPoint(double dist2, std::uint32_t i) {
+      if (dist2 < d2 || (dist2 == d2 && index >= 0 && i < index)) d2 = dist2, index = i;
       return true;
     }
   };

@@ -1,22 +1,30 @@
 #include "algorithms/registration.h"
 
 #include "algorithms/pcl_cloud.h"
+#include "algorithms/point_index.h"
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/features/normal_3d.h>
-#include <pcl/registration/icp.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace grapebench {
 
 namespace {
 
-pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const PointCloud& c) {
+// Unit normals of the 20 nearest neighbours' plane (PCL's NormalEstimation, as the
+// point-to-plane ICP of PCL had them); a degenerate neighbourhood gets a zero normal,
+// which drops its pair's plane term rather than poisoning the solve.
+PointCloud plane_normals(const PointCloud& c) {
   const auto xyz = to_pcl(c);
   pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
   ne.setInputCloud(xyz);
@@ -24,37 +32,113 @@ pcl::PointCloud<pcl::PointNormal>::Ptr with_normals(const PointCloud& c) {
   ne.setKSearch(20);
   pcl::PointCloud<pcl::Normal> normals;
   ne.compute(normals);
-  auto out = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
-  out->resize(xyz->size());
-  for (std::size_t i = 0; i < xyz->size(); ++i) {
-    auto& p = (*out)[i];
-    p.x = (*xyz)[i].x;
-    p.y = (*xyz)[i].y;
-    p.z = (*xyz)[i].z;
-    // Degenerate neighbourhoods give NaN normals: a zero normal drops the point's
-    // plane term rather than poisoning the solve.
-    const bool ok = std::isfinite(normals[i].normal_x);
-    p.normal_x = ok ? normals[i].normal_x : 0.0f;
-    p.normal_y = ok ? normals[i].normal_y : 0.0f;
-    p.normal_z = ok ? normals[i].normal_z : 0.0f;
-    p.curvature = ok ? normals[i].curvature : 0.0f;
+  PointCloud out = PointCloud::Zero(c.rows(), 3);
+  for (Eigen::Index i = 0; i < c.rows(); ++i) {
+    const auto& n = normals[static_cast<std::size_t>(i)];
+    if (std::isfinite(n.normal_x) && std::isfinite(n.normal_y) && std::isfinite(n.normal_z))
+      out.row(i) = Eigen::RowVector3d(n.normal_x, n.normal_y, n.normal_z);
   }
   return out;
 }
 
-template <class Icp>
-IcpResult run_icp(Icp& icp, const IcpParams& p, const Eigen::Isometry3d& initial) {
-  icp.setMaxCorrespondenceDistance(p.max_correspondence_distance);
-  icp.setMaximumIterations(p.max_iterations);
-  icp.setTransformationEpsilon(p.transformation_epsilon);
-  icp.setEuclideanFitnessEpsilon(p.fitness_epsilon);
-  typename Icp::PointCloudSource aligned;
-  icp.align(aligned, initial.matrix());
+// Each source point's nearest target point within `radius` (target index, or -1, and
+// squared distance), source points moved by t. Parallel over blocks; each answer
+// depends on its point alone, so the result is the same at any thread count.
+void correspondences(const PointCloud& source, const PointIndex& target, const Eigen::Isometry3d& t, double radius,
+                     std::vector<std::pair<std::int64_t, double>>& out) {
+  out.resize(static_cast<std::size_t>(source.rows()));
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, source.rows(), 2048), [&](const tbb::blocked_range<Eigen::Index>& r) {
+    for (Eigen::Index i = r.begin(); i < r.end(); ++i)
+      out[static_cast<std::size_t>(i)] = target.nearest_within(t * Vec3(source.row(i).transpose()), radius);
+  });
+}
+
+// The rigid motion minimising the pairs' squared point-to-plane distances, linearised
+// in the angles (PCL's TransformationEstimationPointToPlaneLLS; Low 2004): `from`
+// moved source points, `to` their target points, `normals` the targets' normals
+// (3 x M). Not finite when the normals do not fix the motion.
+Eigen::Isometry3d point_to_plane_step(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to,
+                                      const Eigen::Matrix3Xd& normals) {
+  Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
+  for (Eigen::Index k = 0; k < from.cols(); ++k) {
+    const Vec3 s = from.col(k), n = normals.col(k);
+    Eigen::Matrix<double, 6, 1> row;
+    row << s.cross(n), n;
+    ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+    atb += row * n.dot(to.col(k) - s);
+  }
+  const Eigen::Matrix<double, 6, 1> x = ata.selfadjointView<Eigen::Lower>().ldlt().solve(atb);
+  Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+  step.linear() = (Eigen::AngleAxisd(x(2), Vec3::UnitZ()) * Eigen::AngleAxisd(x(1), Vec3::UnitY()) *
+                   Eigen::AngleAxisd(x(0), Vec3::UnitX()))
+                      .toRotationMatrix();
+  step.translation() = x.tail<3>();
+  return step;
+}
+
+// ICP as PCL's IterativeClosestPoint(WithNormals) runs it (the papers' tool), in
+// double precision on a nanoflann k-d tree: each iteration pairs every moved source
+// point with its nearest target point within the correspondence distance, and the
+// rigid motion of least squares over the pairs -- point to point (Umeyama; PCL's
+// TransformationEstimationSVD) or, with target normals, point to plane -- is composed
+// onto the transform. PCL's DefaultConvergenceCriteria end it: the iteration limit; a
+// step rotating by less than acos(0.99999) with a squared translation within
+// transformation_epsilon; or the pairs' mean squared distance changing by less than
+// fitness_epsilon (absolute) or 1e-5 (relative). Fewer than 3 pairs, or a step the
+// pairs do not fix: not converged.
+IcpResult icp_loop(const PointCloud& source, const PointCloud& target, const PointCloud& target_normals,
+                   const Eigen::Isometry3d& initial, const IcpParams& p) {
+  const PointIndex index(target);
+  const bool to_plane = target_normals.rows() > 0;
+  Eigen::Matrix3Xd normals;
+  std::vector<std::pair<std::int64_t, double>> pairs;
   IcpResult r;
-  r.converged = icp.hasConverged();
-  r.transform.matrix() = icp.getFinalTransformation();
-  // PCL's fitness counts only pairs closer than the correspondence distance.
-  r.fitness = icp.getFitnessScore(p.max_correspondence_distance);
+  r.transform = initial;
+  double previous_mse = std::numeric_limits<double>::max();
+  Eigen::Matrix3Xd from, to;
+  for (int iteration = 1;; ++iteration) {
+    correspondences(source, index, r.transform, p.max_correspondence_distance, pairs);
+    Eigen::Index m = 0;
+    double sum_d2 = 0;
+    for (const auto& [k, d2] : pairs) m += k >= 0, sum_d2 += k >= 0 ? d2 : 0;
+    if (m < 3) {
+      r.converged = false;
+      break;
+    }
+    from.resize(3, m), to.resize(3, m), normals.resize(3, to_plane ? m : 0);
+    m = 0;
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      if (pairs[i].first < 0) continue;
+      from.col(m) = r.transform * Vec3(source.row(static_cast<Eigen::Index>(i)).transpose());
+      if (to_plane) normals.col(m) = target_normals.row(pairs[i].first).transpose();
+      to.col(m++) = target.row(pairs[i].first).transpose();
+    }
+    const Eigen::Isometry3d step =
+        to_plane ? point_to_plane_step(from, to, normals) : Eigen::Isometry3d(Eigen::umeyama(from, to, false));
+    if (!step.matrix().allFinite()) {
+      r.converged = false;
+      break;
+    }
+    r.transform = step * r.transform;
+    const double mse = sum_d2 / static_cast<double>(m);
+    const double cos_angle = 0.5 * (step.linear().trace() - 1);
+    const bool small_step = cos_angle >= 0.99999 && step.translation().squaredNorm() <= p.transformation_epsilon;
+    const bool flat_mse = std::abs(mse - previous_mse) < p.fitness_epsilon ||
+                          std::abs(mse - previous_mse) / previous_mse < 1e-5;
+    previous_mse = mse;
+    if (iteration >= p.max_iterations || small_step || flat_mse) {
+      r.converged = true;
+      break;
+    }
+  }
+  // PCL's fitness score: over the source points with a target point within the
+  // correspondence distance after the final transform.
+  correspondences(source, index, r.transform, p.max_correspondence_distance, pairs);
+  double sum = 0;
+  std::size_t n = 0;
+  for (const auto& [k, d2] : pairs) n += k >= 0, sum += k >= 0 ? d2 : 0;
+  r.fitness = n > 0 ? sum / static_cast<double>(n) : std::numeric_limits<double>::max();
   return r;
 }
 
@@ -88,16 +172,7 @@ IcpResult icp_align(const PointCloud& source, const PointCloud& target, const Ei
       p.max_iterations > 10000) {
     throw InputError("icp: max_correspondence_distance must lie in [1e-4, 1] m and max_iterations in [1, 10000]");
   }
-  if (p.point_to_plane) {
-    pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal, double> icp;
-    icp.setInputSource(with_normals(source));
-    icp.setInputTarget(with_normals(target));
-    return run_icp(icp, p, initial);
-  }
-  pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ, double> icp;
-  icp.setInputSource(to_pcl(source));
-  icp.setInputTarget(to_pcl(target));
-  return run_icp(icp, p, initial);
+  return icp_loop(source, target, p.point_to_plane ? plane_normals(target) : PointCloud(), initial, p);
 }
 
 Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& target) {

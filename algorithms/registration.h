@@ -31,8 +31,11 @@ struct IcpResult {
   double fitness = 0;  // mean squared distance of the correspondences, m2
 };
 
-// ICP (PCL's IterativeClosestPoint, or ...WithNormals for point-to-plane) from `initial`. Throws InputError
-// for clouds with fewer than 3 points or non-finite points.
+// ICP from `initial`. Point-to-point: PCL's IterativeClosestPoint's algorithm and
+// convergence criteria in double precision on a k-d tree, correspondences found in
+// parallel (the same result at any thread count); point-to-plane: PCL's
+// IterativeClosestPointWithNormals. Throws InputError for clouds with fewer than 3
+// points or non-finite points.
 IcpResult icp_align(const PointCloud& source, const PointCloud& target, const Eigen::Isometry3d& initial,
                     const IcpParams& params);
 

@@ -72,9 +72,10 @@ struct GroundTruth {
 VolumeTerms solid_volume_terms(const Bunch& bunch);
 GroundTruth compute_ground_truth(const Bunch& bunch, double density_g_cm3);
 
-// Convex hull of points (CGAL quickhull) as a closed triangle mesh with its volume,
-// summed in exact rationals (independent of facet order). Throws InputError for fewer
-// than 4 points, non-finite points or a flat set.
+// Convex hull of points (CGAL quickhull, after dropping the points strictly inside the
+// hull of a few extreme ones) as a closed triangle mesh with its volume, summed in
+// exact rationals (independent of facet order). Throws InputError for fewer than 4
+// points, non-finite points or a flat set.
 struct HullMesh {
   std::vector<Vec3> vertices;
   std::vector<std::array<int, 3>> triangles;  // outward, counter-clockwise

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 namespace grapebench {
@@ -81,19 +82,28 @@ TEST(StatisticalOutlierRemoval, DropsFarPointsAndKeepsTheSurface) {
   EXPECT_THROW(statistical_outlier_removal(noisy, {0, 1.0}), InputError);
 }
 
-TEST(VoxelGrid, OnePointPerOccupiedVoxel) {
+TEST(VoxelGrid, OnePointPerOccupiedVoxelAtItsCentroid) {
   const PointCloud c = sphere_samples(20000, 0.05, 4);
-  const double leaf = 0.01;
-  const FilteredCloud f = voxel_grid(c, {leaf});
-  // The grid is aligned with the cloud's mean (filters work in mean-centred floats).
-  const Eigen::RowVector3d lo = c.colwise().mean();
-  std::set<std::array<long, 3>> cells;
-  for (Eigen::Index i = 0; i < c.rows(); ++i) {
-    const Eigen::RowVector3d q = (c.row(i) - lo) / leaf;
-    cells.insert({static_cast<long>(std::floor(q(0))), static_cast<long>(std::floor(q(1))), static_cast<long>(std::floor(q(2)))});
+  for (const double leaf : {0.01, 0.0013}) {  // a dense grid, and one sparse beside the cloud (sorted)
+    const FilteredCloud f = voxel_grid(c, {leaf});
+    // Open3D's grid: from half a leaf below the smallest coordinates.
+    const Eigen::RowVector3d lo = c.colwise().minCoeff().array() - 0.5 * leaf;
+    std::map<std::array<long, 3>, std::vector<Eigen::Index>> cells;
+    for (Eigen::Index i = 0; i < c.rows(); ++i) {
+      const Eigen::RowVector3d q = (c.row(i) - lo) / leaf;
+      cells[{static_cast<long>(std::floor(q(2))), static_cast<long>(std::floor(q(1))), static_cast<long>(std::floor(q(0)))}]
+          .push_back(i);
+    }
+    ASSERT_EQ(f.points.rows(), static_cast<Eigen::Index>(cells.size()));
+    Eigen::Index k = 0;
+    for (const auto& [key, rows] : cells) {  // z, y, x: the output's order
+      Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+      for (auto i : rows) sum += c.row(i);
+      EXPECT_LT((f.points.row(k) - sum / static_cast<double>(rows.size())).norm(), 1e-12);
+      EXPECT_NE(std::find(rows.begin(), rows.end(), f.source[static_cast<std::size_t>(k)]), rows.end());
+      ++k;
+    }
   }
-  // Float rounding may move a point sitting on a cell wall.
-  EXPECT_NEAR(static_cast<double>(f.points.rows()), static_cast<double>(cells.size()), 0.005 * static_cast<double>(cells.size()));
   EXPECT_THROW(voxel_grid(c, {0}), InputError);
 }
 
