@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <string_view>
 #include <vector>
 
 namespace grapebench {
@@ -77,6 +78,33 @@ double u_test_p(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
+std::string benchmark_json_text(std::string text) {
+  std::string out;
+  out.reserve(text.size());
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char ch = text[i];
+    if (in_string) {
+      out += ch;
+      if (ch == '\\' && i + 1 < text.size()) out += text[++i];
+      else if (ch == '"') in_string = false;
+      continue;
+    }
+    if (ch == '"') in_string = true;
+    bool replaced = false;
+    for (const std::string_view token : {"-Infinity", "Infinity", "NaN", "-NaN"}) {
+      if (text.compare(i, token.size(), token) == 0) {
+        out += "null";
+        i += token.size() - 1;
+        replaced = true;
+        break;
+      }
+    }
+    if (!replaced) out += ch;
+  }
+  return out;
+}
+
 BenchComparison compare_benchmarks(const nlohmann::json& baseline, const nlohmann::json& contender, double threshold,
                                    double alpha) {
   const auto old_t = times(baseline, "baseline"), new_t = times(contender, "contender");
@@ -108,6 +136,46 @@ BenchComparison compare_benchmarks(const nlohmann::json& baseline, const nlohman
   }
   c.table = s.str();
   return c;
+}
+
+SpeedGateResult check_speed_gate(const nlohmann::json& gate, const std::string& gate_name,
+                                 const std::vector<std::pair<std::string, nlohmann::json>>& runs) {
+  const auto fail = [&](const std::string& what) { throw InputError(gate_name + ": " + what); };
+  if (!gate.is_object() || !gate.contains("format") || gate["format"] != "grapebench-speed-gate-1")
+    fail("not a speed gate ('format' must be \"grapebench-speed-gate-1\")");
+  if (!gate.contains("ratios") || !gate["ratios"].is_array() || gate["ratios"].empty())
+    fail("'ratios' must be a non-empty list");
+  std::map<std::string, std::vector<double>> t;
+  for (const auto& [file, run] : runs) {
+    for (auto& [name, v] : times(run, file.c_str())) t[name].insert(t[name].end(), v.begin(), v.end());
+  }
+  SpeedGateResult r;
+  std::ostringstream s;
+  char line[400];
+  std::snprintf(line, sizeof line, "%-44s %12s %12s %7s %6s %5s  %s\n", "ratio", "grapebench", "reference", "ratio",
+                "max", "runs", "verdict");
+  s << line;
+  for (std::size_t k = 0; k < gate["ratios"].size(); ++k) {
+    const nlohmann::json& g = gate["ratios"][k];
+    const std::string where = "ratios[" + std::to_string(k) + "]";
+    for (const char* key : {"name", "numerator", "denominator"})
+      if (!g.is_object() || !g.contains(key) || !g[key].is_string()) fail(where + "." + key + ": a string is required");
+    if (!g.contains("max") || !g["max"].is_number() || !(g["max"].get<double>() > 0 && g["max"].get<double>() <= 100))
+      fail(where + ".max: a number in (0, 100] is required");
+    for (const auto& [key, value] : g.items())
+      if (key != "name" && key != "numerator" && key != "denominator" && key != "max") fail(where + "." + key + ": unknown key");
+    const std::string num = g["numerator"], den = g["denominator"];
+    for (const std::string& b : {num, den})
+      if (!t.count(b)) fail(where + ": no run holds benchmark '" + b + "'");
+    const double mn = median(t[num]), md = median(t[den]), ratio = mn / md, bound = g["max"].get<double>();
+    const bool ok = ratio <= bound;
+    r.pass = r.pass && ok;
+    std::snprintf(line, sizeof line, "%-44s %9.4g ms %9.4g ms %7.3f %6.2f %5zu  %s\n", g["name"].get<std::string>().c_str(),
+                  mn / 1e6, md / 1e6, ratio, bound, std::min(t[num].size(), t[den].size()), ok ? "ok" : "TOO SLOW");
+    s << line;
+  }
+  r.table = s.str();
+  return r;
 }
 
 }  // namespace grapebench

@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace grapebench {
 
@@ -14,10 +16,28 @@ struct BenchComparison {
   std::string table;     // one line per benchmark: medians, ratio, U-test p-value, verdict
 };
 
+// Google Benchmark writes the counters' undefined aggregates (the cv of a counter that
+// is 0 in every repetition) as bare NaN or Infinity, which JSON does not have: those
+// tokens outside strings become null.
+std::string benchmark_json_text(std::string text);
+
 // A benchmark is flagged when median(new) / median(old) > 1 + threshold and, with at
 // least 3 repetitions on each side, the two-sided Mann-Whitney U test gives p < alpha.
 // Aggregate rows (mean/median/stddev) are ignored; the repetitions are used.
 BenchComparison compare_benchmarks(const nlohmann::json& baseline, const nlohmann::json& contender, double threshold,
                                    double alpha = 0.05);
+
+// The speed gate: in-run ratios of medians (a grapebench operation over its reference
+// measured in the same run: the raw Embree loop, Open3D), each under a stated bound.
+// `gate`: {"format": "grapebench-speed-gate-1", "ratios": [{"name", "numerator",
+// "denominator", "max"}]} naming benchmarks (run_name) of `runs`, Google Benchmark
+// JSON files (file name, content). Throws InputError naming the file (`gate_name`) and key of a malformed
+// gate, or a benchmark no run holds.
+struct SpeedGateResult {
+  bool pass = true;
+  std::string table;  // one line per ratio: medians, ratio, bound, verdict
+};
+SpeedGateResult check_speed_gate(const nlohmann::json& gate, const std::string& gate_name,
+                                 const std::vector<std::pair<std::string, nlohmann::json>>& runs);
 
 }  // namespace grapebench

@@ -73,13 +73,13 @@ std::string sensor_help() {
   return s.str();
 }
 
-nlohmann::json read_json(const std::filesystem::path& f, const std::string& what) {
+nlohmann::json read_json(const std::filesystem::path& f, const std::string& what, bool benchmark = false) {
   std::ifstream in(f, std::ios::binary);
   if (!in) throw InputError(f.string() + ": cannot open");
   std::stringstream text;
   text << in.rdbuf();
   try {
-    return parse_json_bounded(text.str());
+    return parse_json_bounded(benchmark ? benchmark_json_text(text.str()) : text.str());
   } catch (const std::exception& e) {
     throw InputError(f.string() + ": not " + what + ": " + e.what());
   }
@@ -327,13 +327,36 @@ Command compare_bench_subcommand(CLI::App& app) {
             if (!std::isfinite(o->threshold)) throw InputError("--threshold: a number in [0, 10], got nan");
             BenchComparison c;
             try {
-              c = compare_benchmarks(read_json(o->old_file, "a Google Benchmark JSON file"),
-                                     read_json(o->new_file, "a Google Benchmark JSON file"), o->threshold);
+              c = compare_benchmarks(read_json(o->old_file, "a Google Benchmark JSON file", true),
+                                     read_json(o->new_file, "a Google Benchmark JSON file", true), o->threshold);
             } catch (const nlohmann::json::exception& e) {
               throw InputError("compare-bench: a file lacks Google Benchmark fields: " + std::string(e.what()));
             }
             std::cout << c.table;
             return c.slower ? 1 : 0;
+          }};
+}
+
+Command speed_gate_subcommand(CLI::App& app) {
+  struct Options {
+    std::string gate;
+    std::vector<std::string> runs;
+  };
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("speed-gate", "Check in-run speed ratios against their bounds; exit 1 when one is over");
+  cmd->add_option("gate", o->gate, "the bounds (results/baseline/speed_gate.json)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("runs", o->runs, "Google Benchmark JSON files of one run")->required()->check(CLI::ExistingFile);
+  cmd->footer(
+      "Each ratio is median(numerator) / median(denominator) over the repetitions of the\n"
+      "runs (--benchmark_repetitions, --benchmark_enable_random_interleaving). scripts/speed_gate.sh\n"
+      "runs the benchmarks and this check.");
+  return {cmd, [o] {
+            std::vector<std::pair<std::string, nlohmann::json>> runs;
+            for (const auto& f : o->runs) runs.emplace_back(f, read_json(f, "a Google Benchmark JSON file", true));
+            const SpeedGateResult r = check_speed_gate(read_json(o->gate, "a speed gate JSON file"), o->gate, runs);
+            std::cout << r.table;
+            std::printf("%s: speed gate %s\n", r.pass ? "PASS" : "TOO SLOW", o->gate.c_str());
+            return r.pass ? 0 : 1;
           }};
 }
 
@@ -418,7 +441,8 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", g->verbose, "A progress line per item, also on a terminal");
   const std::vector<Command> commands = {synth_subcommand(app, g), run_subcommand(app, g),
                                          merge_subcommand(app),    check_subcommand(app),
-                                         compare_bench_subcommand(app), scan_subcommand(app, g),
+                                         compare_bench_subcommand(app), speed_gate_subcommand(app),
+                                         scan_subcommand(app, g),
                                          estimate_subcommand(app, g)};
   if (argc > 1 && argv[1][0] != '-') {
     std::string known;

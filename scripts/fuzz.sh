@@ -2,15 +2,16 @@
 # Fuzzes every reader of outside input (tests/fuzz/) for the given seconds each
 # (default 600), under ASan and UBSan, and reports executions per second and
 # coverage per target. Findings (crash-*, timeout-*, leak-*) are left in
-# build-fuzz/findings/<target>/; exit 1 when any target found something.
+# build-asan-clang/findings/<target>/; exit 1 when any target found something.
 # Usage: scripts/fuzz.sh [seconds] [target...]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds="${1:-600}"
 shift || true
-build="${GRAPEBENCH_FUZZ_BUILD_DIR:-$here/build-fuzz}"
+# The sanitizer build of scripts/test.sh, which holds the fuzz targets: one build.
+build="${GRAPEBENCH_FUZZ_BUILD_DIR:-${GRAPEBENCH_BUILD_DIR:-$here/build}-asan-clang}"
 CC=clang CXX=clang++ CMAKE_BUILD_TYPE=RelWithDebInfo "$here/scripts/setup.sh" "$build" \
-  -DGRAPEBENCH_FUZZ=ON -DGRAPEBENCH_BUILD_TESTS=OFF -DGRAPEBENCH_BUILD_BENCHMARKS=OFF
+  -DGRAPEBENCH_FUZZ=ON -DGRAPEBENCH_BUILD_BENCHMARKS=OFF
 targets=("$@")
 if ((${#targets[@]} == 0)); then
   targets=(scene case_file baseline bench_json external_answer cloud_file)

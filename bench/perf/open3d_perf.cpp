@@ -1,7 +1,7 @@
 // Google Benchmark: grapebench's estimators beside the same operation in Open3D
 // (Debian's libopen3d-dev), on 50,000-point bunch clouds, in the same run.
-// Open3D parallelises with OpenMP: run with OMP_NUM_THREADS=1 to compare one core
-// with one core (grapebench's estimators are single-threaded).
+// Open3D parallelises with OpenMP and grapebench's ICP with TBB: run with
+// OMP_NUM_THREADS=1 to compare one core with one core (TBB is held to the same count).
 //
 // Two clouds of the same bunch (table-red, seed 7):
 //   scan:    24 Kinect v2 views merged with the true poses. The pockets between berries
@@ -41,7 +41,11 @@
 #include <open3d/pipelines/registration/Registration.h>
 #include <open3d/utility/Logging.h>
 
+#include <tbb/global_control.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
 
 namespace {
 
@@ -430,4 +434,15 @@ BENCHMARK(BM_VB_open3d)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ICP_grapebench)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ICP_open3d)->Unit(benchmark::kMillisecond);
 
-BENCHMARK_MAIN();
+// TBB gets as many threads as OpenMP (OMP_NUM_THREADS, when set): one core against one.
+int main(int argc, char** argv) {
+  std::unique_ptr<tbb::global_control> threads;
+  if (const char* omp = std::getenv("OMP_NUM_THREADS"); omp != nullptr && std::atoi(omp) > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    static_cast<std::size_t>(std::atoi(omp)));
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -6,6 +6,7 @@
 #include "synth/generate.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 namespace grapebench {
 namespace {
@@ -53,6 +54,29 @@ TEST(Icp, RecoversAKnownMotionOfANoiselessView) {
   EXPECT_TRUE(r.converged);
   EXPECT_LT(rotation_error_deg(r.transform, truth), 0.5);
   EXPECT_LT(centroid_displacement(r.transform, truth, source), 1e-3);
+}
+
+// Correspondences are searched in parallel: the transform, fitness and flags are the
+// same bits on one thread and on many, point to point and point to plane.
+TEST(Icp, TheSameResultAtAnyThreadCount) {
+  const Views v = scan_views(2, 30);
+  for (const bool to_plane : {false, true}) {
+    IcpParams p;
+    p.point_to_plane = to_plane;
+    p.max_correspondence_distance = 0.01;
+    IcpResult one, many;
+    {
+      const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+      one = icp_align(v.views[1].points, v.views[0].points, Eigen::Isometry3d::Identity(), p);
+    }
+    {
+      const tbb::global_control four(tbb::global_control::max_allowed_parallelism, 4);
+      many = icp_align(v.views[1].points, v.views[0].points, Eigen::Isometry3d::Identity(), p);
+    }
+    EXPECT_TRUE(one.transform.matrix() == many.transform.matrix()) << to_plane;
+    EXPECT_EQ(one.fitness, many.fitness);
+    EXPECT_EQ(one.converged, many.converged);
+  }
 }
 
 TEST(Icp, StartingAtTheTruePoseStaysThere) {

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The speed gate: a short Google Benchmark run of the sensor models against the raw
+# Embree loop and of the shared operations against Open3D (one thread each), then
+# `grapebench speed-gate` on the in-run ratios of medians against
+# results/baseline/speed_gate.json. Exit 1 when a ratio is over its bound.
+# Usage: scripts/speed_gate.sh [build-dir] [repetitions]
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${1:-${GRAPEBENCH_BUILD_DIR:-$here/build}}"
+reps="${2:-5}"
+out="$build/speed_gate"
+mkdir -p "$out"
+common=(--benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true --benchmark_min_time=0.1
+        --benchmark_out_format=json)
+"$build/bench/grapebench_sensor_perf" "${common[@]}" --benchmark_out="$out/sensor.json" \
+  --benchmark_filter='kinect_v2_turntable|d435_robot_pass|ideal_turntable12' >/dev/null
+OMP_NUM_THREADS=1 "$build/bench/grapebench_open3d_perf" "${common[@]}" --benchmark_out="$out/open3d.json" \
+  --benchmark_filter='^BM_(CH|VoxelGrid|ICP)_' >/dev/null
+"$build/bench/grapebench" speed-gate "$here/results/baseline/speed_gate.json" "$out/sensor.json" "$out/open3d.json"
