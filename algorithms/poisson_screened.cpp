@@ -161,9 +161,13 @@ void apply_rows(Level& lv, const Field& xv, Row&& row) {
         for (int xx = 0; xx < g.n[0]; ++xx) edge_node(xx, yy, z, first + static_cast<std::size_t>(xx));
       } else {
         edge_node(0, yy, z, first);
+        // Signed strides: the neighbours below lie before `c` (unsigned offsets would
+        // wrap the pointer, which UBSan flags).
+        const auto dx = static_cast<std::ptrdiff_t>(sx), dy = static_cast<std::ptrdiff_t>(sy),
+                   dz = static_cast<std::ptrdiff_t>(sz);
         const float* __restrict c = x + first;
-        for (std::size_t i = 1; i + 1 < sy; ++i) {
-          ax[i] = h * (6 * c[i] - c[i - sx] - c[i + sx] - c[i - sy] - c[i + sy] - c[i - sz] - c[i + sz]);
+        for (std::ptrdiff_t i = 1; i + 1 < dy; ++i) {
+          ax[i] = h * (6 * c[i] - c[i - dx] - c[i + dx] - c[i - dy] - c[i + dy] - c[i - dz] - c[i + dz]);
         }
         edge_node(g.n[0] - 1, yy, z, first + sy - 1);
       }

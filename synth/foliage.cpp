@@ -80,7 +80,10 @@ Foliage generate_foliage(const FoliageParams& p, const Bunch& bunch, std::uint64
     Stem s;
     const double x = anchor.x() + rng.uniform(-p.row_half_length, p.row_half_length);
     s.start = Vec3(x, anchor.y(), anchor.z());
-    const Vec3 lean(rng.normal(0, 0.25), rng.normal(0, 0.15), 1);
+    // Draws one per statement: the order of a call's arguments is unspecified (GCC
+    // took them last first, clang first first); this is the order GCC gave.
+    const double lean_y = rng.normal(0, 0.15), lean_x = rng.normal(0, 0.25);
+    const Vec3 lean(lean_x, lean_y, 1);
     s.end = s.start + (p.canopy_above / lean.z()) * lean;
     s.radius = p.shoot_radius;
     s.part = Part::Cane;
@@ -95,9 +98,11 @@ Foliage generate_foliage(const FoliageParams& p, const Bunch& bunch, std::uint64
   int placed = 0;
   for (int attempt = 0; placed < p.leaves && attempt < 50 * std::max(p.leaves, 1); ++attempt) {
     const double r = std::max(0.01, rng.normal(p.leaf_radius, p.leaf_radius_sd));
-    const Vec3 c(cx + rng.uniform(-p.row_half_length, p.row_half_length), cy + rng.uniform(-0.5, 0.5) * p.canopy_depth,
-                 rng.uniform(z_lo, z_hi));
-    Vec3 n = Vec3(rng.normal(0, 0.5), rng.uniform() < 0.5 ? -1.0 : 1.0, rng.normal(0, 0.5)).normalized();
+    const double cz = rng.uniform(z_lo, z_hi), cy_draw = rng.uniform(-0.5, 0.5),
+                 cx_draw = rng.uniform(-p.row_half_length, p.row_half_length);  // in GCC's order, as above
+    const Vec3 c(cx + cx_draw, cy + cy_draw * p.canopy_depth, cz);
+    const double nz = rng.normal(0, 0.5), ny = rng.uniform() < 0.5 ? -1.0 : 1.0, nx = rng.normal(0, 0.5);
+    Vec3 n = Vec3(nx, ny, nz).normalized();
     const bool in_front = c.y() < cy && c.x() + r > lo.x() && c.x() - r < hi.x() && c.z() + r > lo.z() && c.z() - r < hi.z();
     const double keep = rng.uniform();
     if (in_front && keep >= p.occlusion) continue;

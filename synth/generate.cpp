@@ -234,7 +234,10 @@ class BunchBuilder {
         s.reach_max = p.pedicel_stretch * ped + s.radius;
         Vec3 radial(s.anchor.x(), s.anchor.y(), 0);
         radial = radial.squaredNorm() > 1e-12 ? radial.normalized() : Vec3(axis.x(), axis.y(), 0);
-        const Vec3 jitter(rng.normal(), rng.normal(), rng.normal());
+        // One draw per statement, z first: the order GCC gave the unspecified order of
+        // a call's arguments, which clang reverses.
+        const double jz = rng.normal(), jy = rng.normal(), jx = rng.normal();
+        const Vec3 jitter(jx, jy, jz);
         Vec3 dir = radial + 0.4 * axis + 0.8 * jitter.normalized() + Vec3(0, 0, -0.3);
         if (dir.squaredNorm() < 1e-12) dir = Vec3(0, 0, -1);
         s.centre = s.anchor + s.reach * dir.normalized();

@@ -23,11 +23,13 @@
 #include "algorithms/registration.h"
 #include "algorithms/voxel_volume.h"
 #include "sensors/kinect_v2.h"
+#include "sensors/rig.h"
 #include "sensors/scan.h"
 #include "sensors/visibility_hull.h"
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
 #include "synth/surface_sample.h"
+#include "synth/rng.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
@@ -39,6 +41,8 @@
 #include <open3d/geometry/TriangleMesh.h>
 #include <open3d/geometry/VoxelGrid.h>
 #include <open3d/pipelines/registration/Registration.h>
+#include <open3d/t/geometry/RaycastingScene.h>
+#include <open3d/t/geometry/TriangleMesh.h>
 #include <open3d/utility/Logging.h>
 
 #include <tbb/global_control.h>
@@ -384,8 +388,66 @@ void BM_ICP_open3d(benchmark::State& s) {
   s.counters["translation_error_mm"] = 1e3 * centroid_displacement(t, moved().truth, moved().source);
 }
 
+// ---- ray casting: the Kinect v2 model (12 views of seed 000's turntable, native
+// spheres and cylinders, packets of 16, the whole sensor model) against Open3D's
+// RaycastingScene (Embree too, triangles only) casting the same rays into the bunch
+// tessellated by Open3D (spheres and cylinders at resolution 20, its default), hits
+// only. Rays per second of each; one thread.
+void BM_RayCast_kinect_model(benchmark::State& s) {
+  const RayScene scene(the_bunch());
+  const KinectV2 kinect{KinectV2Params{}};
+  const auto rig = make_turntable(TurntableParams{});  // 12 x 30 deg at 1 m
+  std::uint64_t rays = 0;
+  for (auto _ : s) {
+    const Scan scan = scan_bunch(scene, kinect, *rig, BackgroundSpec{}, 5);
+    for (const auto& v : scan.views) rays += v.cloud.rays_cast;
+  }
+  s.counters["rays_per_s"] = benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kIsRate);
+}
+void BM_RayCast_open3d_raycasting_scene(benchmark::State& s) {
+  const Bunch& b = the_bunch();
+  open3d::geometry::TriangleMesh all;
+  for (const auto& berry : b.berries) {
+    auto m = open3d::geometry::TriangleMesh::CreateSphere(berry.radius, 20);
+    m->Translate(berry.centre);
+    all += *m;
+  }
+  for (const auto& st : b.stems) {
+    const Vec3 axis = st.end - st.start;
+    auto m = open3d::geometry::TriangleMesh::CreateCylinder(st.radius, axis.norm(), 20);  // along z, centred
+    m->Rotate(Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), axis.normalized()).toRotationMatrix(), Vec3::Zero());
+    m->Translate(0.5 * (st.start + st.end));
+    all += *m;
+  }
+  open3d::t::geometry::RaycastingScene o3d_scene;
+  o3d_scene.AddTriangles(open3d::t::geometry::TriangleMesh::FromLegacy(all));
+  // The model's own rays, as its raw Embree benchmark casts them.
+  const RayScene scene(b);
+  const KinectV2 kinect{KinectV2Params{}};
+  const auto poses = make_turntable(TurntableParams{})->views(scene.bounds_centre(), scene.bounds_radius(), {});
+  std::vector<float> flat;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    for (const Ray& r : kinect.traced_rays(scene, poses[k].pose, derive_seed(5, k))) {
+      for (int a = 0; a < 3; ++a) flat.push_back(static_cast<float>(r.origin[a]));
+      for (int a = 0; a < 3; ++a) flat.push_back(static_cast<float>(r.direction[a]));
+    }
+  }
+  const auto n = static_cast<std::int64_t>(flat.size() / 6);
+  const open3d::core::Tensor rays(flat, {n, 6}, open3d::core::Float32);
+  std::uint64_t cast = 0;
+  for (auto _ : s) {
+    auto hits = o3d_scene.CastRays(rays, 1);
+    benchmark::DoNotOptimize(hits);
+    cast += static_cast<std::uint64_t>(n);
+  }
+  s.counters["rays_per_s"] = benchmark::Counter(static_cast<double>(cast), benchmark::Counter::kIsRate);
+  s.counters["triangles"] = static_cast<double>(all.triangles_.size());
+}
+
 }  // namespace
 
+BENCHMARK(BM_RayCast_kinect_model)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RayCast_open3d_raycasting_scene)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CH_grapebench)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CH_open3d)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AS_grapebench)->Unit(benchmark::kMillisecond);

@@ -222,10 +222,13 @@ std::vector<Eigen::Isometry3d> perturbed_poses(const PipelineSpec& pl, const Sca
   Rng rng(derive_seed(seed, 0x9053));
   double rot_sum = 0, rot_max = 0, tr_sum = 0, tr_max = 0;
   for (const ScanView& v : scan.views) {
-    const Vec3 axis = Vec3(rng.normal(), rng.normal(), rng.normal()).normalized();
+    // One draw per statement, z first (the order GCC gave a call's unspecified
+    // argument order; clang reverses it).
+    const double az = rng.normal(), ay = rng.normal(), ax = rng.normal();
+    const Vec3 axis = Vec3(ax, ay, az).normalized();
     const double angle = pl.pose_rotation_sd * M_PI / 180 * rng.normal();
-    const Vec3 shift(pl.pose_translation_sd * rng.normal(), pl.pose_translation_sd * rng.normal(),
-                     pl.pose_translation_sd * rng.normal());
+    const double sz = rng.normal(), sy = rng.normal(), sx = rng.normal();
+    const Vec3 shift = pl.pose_translation_sd * Vec3(sx, sy, sz);
     Eigen::Isometry3d pose = v.camera.pose;
     pose.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix() * pose.linear();  // about the camera centre
     pose.translation() += shift;

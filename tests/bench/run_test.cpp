@@ -537,6 +537,20 @@ void expect_same_rows(const EstimatorRows& a, const EstimatorRows& b, double rel
   }
 }
 
+// The two horizontal principal extents of each case as (larger, smaller). Where a
+// bunch's two largest variances nearly tie, which axis comes first is a matter of
+// rounding: numpy and Eigen (built by clang, not by GCC) ordered one case apart.
+EstimatorRows extents_in_order(EstimatorRows rows) {
+  for (auto& [key, v] : rows.estimate) {
+    const std::size_t cut = key.rfind("/length");
+    if (cut == std::string::npos || cut + 7 != key.size()) continue;
+    const auto width = rows.estimate.find(key.substr(0, cut) + "/width");
+    if (width == rows.estimate.end()) continue;
+    if (v < width->second) std::swap(v, width->second);
+  }
+  return rows;
+}
+
 // Protocol 2 on the multi_view protocol: the program gets the registered cloud with
 // normals, viewpoints and colours, and the views with their poses; its hull and
 // principal extents equal the built-ins' on the same points, per case and persistent.
@@ -550,7 +564,7 @@ TEST(External, ProtocolTwoOnMultiViewPerCaseAndPersistent) {
   expect_schema_ok(csv);
   EstimatorRows builtin = rows_of(csv, "CH");
   for (const auto& [k, v] : rows_of(csv, "pca_box").estimate) builtin.estimate[k] = v;
-  expect_same_rows(per_case, builtin, 1e-6, "Open3D/numpy vs CGAL hull and PCA box");
+  expect_same_rows(extents_in_order(per_case), extents_in_order(builtin), 1e-6, "Open3D/numpy vs CGAL hull and PCA box");
   for (const auto& n : persistent.notes) {
     EXPECT_NE(n.find("grapebench-estimator-2, multi_view, 4 views, normals+viewpoints+colours"), std::string::npos)
         << n;
@@ -590,7 +604,7 @@ estimators:
   const EstimatorRows per_case = rows_of(csv, "v2_per_case"), persistent = rows_of(csv, "v2_persistent");
   expect_same_rows(per_case, persistent, 0, "persistent vs per case");
   expect_schema_ok(csv);
-  expect_same_rows(per_case, rows_of(csv, "pca_box"), 1e-6, "numpy vs pca_box");
+  expect_same_rows(extents_in_order(per_case), extents_in_order(rows_of(csv, "pca_box")), 1e-6, "numpy vs pca_box");
   bool manual = false;
   for (const auto& n : per_case.notes) {
     EXPECT_NE(n.find("grapebench-estimator-2, single_frame, frame "), std::string::npos) << n;
