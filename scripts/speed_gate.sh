@@ -7,7 +7,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-${GRAPEBENCH_BUILD_DIR:-$here/build}}"
-reps="${2:-5}"
+reps="${2:-7}"
 out="$build/speed_gate"
 mkdir -p "$out"
 common=(--benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true --benchmark_min_time=0.1
