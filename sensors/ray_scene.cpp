@@ -370,26 +370,37 @@ void RayScene::intersect_image_points(const PixelRays& camera, const double* uv,
   alignas(64) RTCRayHit16 rh;
   alignas(64) int valid[16];
   const bool plane = !bunch_only && background_.has_value();
-  const float ox = static_cast<float>(camera.origin.x()), oy = static_cast<float>(camera.origin.y()),
-              oz = static_cast<float>(camera.origin.z());
+  // Embree writes only tfar and the hit of a packet: the origin (the camera's), tnear,
+  // time, mask, flags and id are set once; masked-off lanes keep finite directions.
+  const Vec3& c2 = camera.c2;
+  for (std::size_t k = 0; k < 16; ++k) {
+    set_lane(rh, k, static_cast<float>(camera.origin.x()), static_cast<float>(camera.origin.y()),
+             static_cast<float>(camera.origin.z()), static_cast<float>(c2.x()), static_cast<float>(c2.y()),
+             static_cast<float>(c2.z()));
+  }
+  Vec3 dir[16];  // each lane's direction (length |d|), formed once per ray
   for (std::size_t base = 0; base < count; base += 16) {
     const std::size_t n = std::min<std::size_t>(16, count - base);
-    for (std::size_t k = 0; k < 16; ++k) {
-      const std::size_t i = base + std::min(k, n - 1);
-      const Vec3 d = uv[2 * i] * camera.c0 + uv[2 * i + 1] * camera.c1 + camera.c2;
-      valid[k] = k < n ? -1 : 0;
-      set_lane(rh, k, ox, oy, oz, static_cast<float>(d.x()), static_cast<float>(d.y()), static_cast<float>(d.z()));
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = base + k;
+      const Vec3 d = uv[2 * i] * camera.c0 + uv[2 * i + 1] * camera.c1 + c2;
+      dir[k] = d;
+      rh.ray.dir_x[k] = static_cast<float>(d.x());
+      rh.ray.dir_y[k] = static_cast<float>(d.y());
+      rh.ray.dir_z[k] = static_cast<float>(d.z());
+      rh.ray.tfar[k] = INFINITY;
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      valid[k] = -1;
     }
+    for (std::size_t k = n; k < 16; ++k) valid[k] = 0;
     rtcIntersect16(valid, state_->scene, &context, &rh);
     for (std::size_t k = 0; k < n; ++k) {
       Hit& h = hits[base + k];
       set_miss(h);
       if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID && !plane) continue;
-      const std::size_t i = base + k;
-      const Vec3 d = uv[2 * i] * camera.c0 + uv[2 * i + 1] * camera.c1 + camera.c2;
-      const double len = std::sqrt(d.squaredNorm());
+      const double len = std::sqrt(dir[k].squaredNorm());
       // Embree's t is in units of |d|.
-      resolve({camera.origin, d * (1.0 / len)}, rh, k, len, plane, h);
+      resolve({camera.origin, dir[k] * (1.0 / len)}, rh, k, len, plane, h);
     }
   }
   if (!state_->last_error.empty()) throw InputError("ray scene: " + state_->last_error);

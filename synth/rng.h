@@ -66,17 +66,20 @@ struct NormalTable {
   NormalTable() {
     for (int i = 0; i <= kCells; ++i) value[i] = static_cast<float>(inverse_normal_cdf(kLo + (kHi - kLo) * i / kCells));
   }
+  // The tails out of line, so the central path inlines into per-pixel loops.
+  [[gnu::noinline]] static double tail(double p) { return inverse_normal_cdf(p); }
   double operator()(double p) const {
-    if (p < kLo || p > kHi) return inverse_normal_cdf(p);
+    if (p < kLo || p > kHi) [[unlikely]] return tail(p);
     const double x = (p - kLo) * (kCells / (kHi - kLo));
     const int i = std::min(static_cast<int>(x), kCells - 1);
     const double f = x - i;
     return value[i] + f * (static_cast<double>(value[i + 1]) - value[i]);
   }
 };
+// Namespace scope rather than a function's static: no guard on every draw.
+inline const NormalTable kNormalTable;
 inline double hashed_normal_tabulated(std::uint64_t seed, std::uint64_t counter) {
-  static const NormalTable table;
-  return table(hashed_uniform(seed, counter));
+  return kNormalTable(hashed_uniform(seed, counter));
 }
 
 class Rng {
