@@ -1,5 +1,7 @@
 #include "bench/scoring/classes.h"
 
+#include "bench/scoring/rates.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -7,14 +9,6 @@
 #include <stdexcept>
 
 namespace grapebench {
-
-namespace {
-
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double ratio(double a, double b) { return b > 0 ? a / b : kNaN; }
-
-}  // namespace
 
 RocCurve roc_curve(const std::vector<double>& score, const std::vector<bool>& positive) {
   if (score.size() != positive.size()) throw std::invalid_argument("roc_curve: score and truth sizes differ");

@@ -1,5 +1,7 @@
 #include "bench/scoring/detections.h"
 
+#include "bench/scoring/rates.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,10 +11,6 @@
 namespace grapebench {
 
 namespace {
-
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double ratio(double a, double b) { return b > 0 ? a / b : kNaN; }
 
 // Precision, recall, F1 and the mean errors from the counts and error sums.
 void finish(DetectionScore& s, double centre_sum, double radius_sum, double radius_abs_sum) {

@@ -1,5 +1,7 @@
 #include "bench/scoring/statistics.h"
 
+#include "bench/scoring/rates.h"
+
 #include "bench/scoring/scalars.h"
 #include "synth/rng.h"
 
@@ -12,8 +14,6 @@
 namespace grapebench {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Interval percentile_interval(std::vector<double> v, double level) {
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());

@@ -1,5 +1,6 @@
 // The command-line program: help documents every parameter; errors are clear.
 #include "bench/heap_meter.h"
+#include "file_text.h"
 #include "synth/params.h"
 
 #include <gtest/gtest.h>
@@ -110,12 +111,6 @@ TEST(Cli, AKilledRunResumesToTheResultsOfAnUninterruptedOne) {
                ">/dev/null 2>&1").c_str());
   const CommandResult resumed = run_cli("run " + scene + " --out /tmp/grapebench_cli_killed --quiet");
   ASSERT_EQ(resumed.status, 0) << resumed.out;
-  const auto slurp = [](const std::string& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
   EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/results.csv"), slurp("/tmp/grapebench_cli_whole/default/results.csv"));
   EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/summary.json"), slurp("/tmp/grapebench_cli_whole/default/summary.json"));
 }
@@ -247,12 +242,6 @@ TEST(Cli, AnEditedCaseFileIsRecomputedAndTheRunSaysSo) {
   const std::string out = "/tmp/grapebench_cli_tampered", file = out + "/two_bunches_hull/cases/c0000_b0001.json";
   std::filesystem::remove_all(out);
   ASSERT_EQ(run_cli("run " + scene + " --out " + out + " -q").status, 0);
-  const auto slurp = [](const std::string& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
   const std::string results = slurp(out + "/two_bunches_hull/results.csv"), original = slurp(file);
   const std::vector<std::pair<std::string, std::string>> edits = {
       {"\"ok\": true", "\"ok\": false"}, {"\"estimate\": ", "\"estimate\": 1"}, {"\"truth\": ", "\"truth\": 2"},

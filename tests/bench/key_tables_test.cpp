@@ -165,8 +165,6 @@ TEST(KeyTables, AManifestsSceneReadsBackAsTheSameScene) {
   EXPECT_GE(scenes, 10);
 }
 
-std::string error_of(const std::string& yaml) { return scene_error(yaml); }
-
 // The line of the first occurrence of `text` in `yaml`, 1-based.
 int line_of(const std::string& yaml, const std::string& text) {
   const auto at = yaml.find(text);
@@ -178,7 +176,7 @@ const std::string kHead = "name: k\nseed: 1\nbunches:\n  - preset: table-red\n";
 TEST(KeyTables, AnUnknownKeyFailsWithFileLineForEveryRegisteredType) {
   int checked = 0;
   const auto expect_unknown = [&](const std::string& yaml, const std::string& path) {
-    const std::string m = error_of(yaml);
+    const std::string m = scene_error(yaml);
     const std::string want = "scene.yaml:" + std::to_string(line_of(yaml, "not_a_key")) + ": unknown key '" + path + "'";
     EXPECT_NE(m.find(want), std::string::npos) << "want: " << want << "\ngot: " << m;
     ++checked;
@@ -244,10 +242,10 @@ TEST(KeyTables, AKeyTheChosenTypeOrMethodDoesNotReadFailsWithFileLine) {
            {scan + "pipeline:\n  registration:\n    type: known_angle_icp\n    group_size: 7\n",
             "pipeline.registration.group_size"}}) {
     const std::string want = "scene.yaml:" + std::to_string(line_of(yaml, "group_size")) + ": unknown key '" + key + "'";
-    EXPECT_NE(error_of(yaml).find(want), std::string::npos) << "want: " << want << "\ngot: " << error_of(yaml);
+    EXPECT_NE(scene_error(yaml).find(want), std::string::npos) << "want: " << want << "\ngot: " << scene_error(yaml);
   }
   for (const auto& c : cases) {
-    const std::string m = error_of(c.yaml);
+    const std::string m = scene_error(c.yaml);
     const std::string leaf = c.key.substr(c.key.rfind('.') + 1);
     const std::string want = "scene.yaml:" + std::to_string(line_of(c.yaml, "  " + leaf + ":")) + ": '" + c.key +
                              "': is read only with " + c.condition;

@@ -15,6 +15,7 @@
 #include "bench/bench_compare.h"
 #include "bench/check.h"
 #include "bench/runner.h"
+#include "file_text.h"
 #include "scene_error.h"
 
 namespace grapebench {
@@ -45,20 +46,11 @@ estimators:
   - type: pca_box
 )";
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 fs::path fresh_dir(const std::string& name) {
   const fs::path d = fs::path(testing::TempDir()) / ("grapebench_run_test_" + name);
   fs::remove_all(d);
   return d;
 }
-
-std::string error_of(const std::string& yaml) { return scene_error(yaml); }
 
 RunOptions quiet(const fs::path& out, int threads = 1) {
   RunOptions o;
@@ -83,14 +75,14 @@ TEST(Sweep, ExpandsTheProductFirstAxisSlowest) {
 }
 
 TEST(Sweep, BadValuesNameTheLineTheyWereWrittenOn) {
-  const std::string m = error_of(std::string(kScene) + "sweep:\n  sensor.noise_scale: [0, 1,\n     50]\n");
+  const std::string m = scene_error(std::string(kScene) + "sweep:\n  sensor.noise_scale: [0, 1,\n     50]\n");
   EXPECT_NE(m.find("scene.yaml:23"), std::string::npos) << m;
   EXPECT_NE(m.find("[0, 20]"), std::string::npos) << m;
   EXPECT_NE(m.find("sweep point noise_scale=50"), std::string::npos) << m;
-  const std::string unknown = error_of(std::string(kScene) + "sweep:\n  sensor.nosie_scale: [0, 1]\n");
+  const std::string unknown = scene_error(std::string(kScene) + "sweep:\n  sensor.nosie_scale: [0, 1]\n");
   EXPECT_NE(unknown.find("scene.yaml:22: unknown key 'sensor.nosie_scale'"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("nosie_scale"), std::string::npos) << unknown;
-  EXPECT_NE(error_of(std::string(kScene) + "sweep:\n  rig.views: {from: 1, to: 4}\n").find("from, to and step"),
+  EXPECT_NE(scene_error(std::string(kScene) + "sweep:\n  rig.views: {from: 1, to: 4}\n").find("from, to and step"),
             std::string::npos);
 }
 
@@ -141,53 +133,53 @@ TEST(Estimators, OverBudgetRunsFailTheirRowsWithTheReason) {
       EXPECT_EQ(r["succeeded"].get<int>(), 3) << name;
     }
   }
-  const std::string m = error_of(std::string(kScene) + "    time_budget: 0\n");
+  const std::string m = scene_error(std::string(kScene) + "    time_budget: 0\n");
   EXPECT_NE(m.find("time_budget"), std::string::npos) << m;
 }
 
 TEST(Estimators, SectionErrorsNameFileLineKeyAndRange) {
-  std::string m = error_of(std::string(kScene) + "  - type: alpha_shape\n    alpha: 50\n");
+  std::string m = scene_error(std::string(kScene) + "  - type: alpha_shape\n    alpha: 50\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("alpha"), std::string::npos) << m;
   EXPECT_NE(m.find("[0.0001, 10]"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "  - type: poisson_magic\n");
+  m = scene_error(std::string(kScene) + "  - type: poisson_magic\n");
   EXPECT_NE(m.find("scene.yaml:21"), std::string::npos) << m;
   EXPECT_NE(m.find("allowed: pca_box"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "  - type: poisson\n    solver: screened\n    screening: -1\n");
+  m = scene_error(std::string(kScene) + "  - type: poisson\n    solver: screened\n    screening: -1\n");
   EXPECT_NE(m.find("screening"), std::string::npos) << m;
   EXPECT_NE(m.find("[0, 10000]"), std::string::npos) << m;
   // PCL's octree depth means nothing to the screened solver: an error naming the solver it needs.
-  m = error_of(std::string(kScene) + "  - type: poisson\n    solver: screened\n    depth: 9\n");
+  m = scene_error(std::string(kScene) + "  - type: poisson\n    solver: screened\n    depth: 9\n");
   EXPECT_NE(m.find("scene.yaml:23: 'estimators[3].depth': is read only with solver: pcl"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "  - type: voxel\n    voxle_size: 0.01\n");
+  m = scene_error(std::string(kScene) + "  - type: voxel\n    voxle_size: 0.01\n");
   EXPECT_NE(m.find("unknown key 'estimators[3].voxle_size'"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "  - type: voxel\n    name: CH\n");
+  m = scene_error(std::string(kScene) + "  - type: voxel\n    name: CH\n");
   EXPECT_NE(m.find("used twice"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "pipeline:\n  registration: magic\n");
+  m = scene_error(std::string(kScene) + "pipeline:\n  registration: magic\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("allowed: true_poses"), std::string::npos) << m;
-  m = error_of(std::string(kScene) +
+  m = scene_error(std::string(kScene) +
                "pipeline:\n  registration:\n    type: plain_icp\n    icp:\n      max_iterations: 0\n");
   EXPECT_NE(m.find("pipeline.registration.icp.max_iterations"), std::string::npos) << m;
   EXPECT_NE(m.find("[1, 10000]"), std::string::npos) << m;
   // ICP settings mean nothing with the true poses: an error, not a silent default.
-  m = error_of(std::string(kScene) +
+  m = scene_error(std::string(kScene) +
                "pipeline:\n  registration:\n    type: true_poses\n    icp:\n      max_iterations: 5\n");
   EXPECT_NE(m.find("scene.yaml:24: unknown key 'pipeline.registration.icp'"), std::string::npos) << m;
 }
 
 TEST(Pipeline, FilterStepsAreRegisteredAndStrict) {
-  std::string m = error_of(std::string(kScene) + "pipeline:\n  view_filters:\n    - type: median_magic\n");
+  std::string m = scene_error(std::string(kScene) + "pipeline:\n  view_filters:\n    - type: median_magic\n");
   EXPECT_NE(m.find("scene.yaml:23"), std::string::npos) << m;
   EXPECT_NE(m.find("allowed: pass_through"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "pipeline:\n  cloud_filters:\n    - type: voxel_grid\n      leaf: 5\n");
+  m = scene_error(std::string(kScene) + "pipeline:\n  cloud_filters:\n    - type: voxel_grid\n      leaf: 5\n");
   EXPECT_NE(m.find("scene.yaml:24"), std::string::npos) << m;
   EXPECT_NE(m.find("pipeline.cloud_filters[0].leaf"), std::string::npos) << m;
   EXPECT_NE(m.find("[0.0001, 1]"), std::string::npos) << m;
-  m = error_of(std::string(kScene) +
+  m = scene_error(std::string(kScene) +
                "pipeline:\n  view_filters:\n    - type: pass_through\n      min: [0, 0, 1]\n      max: [1, 1, 0.5]\n");
   EXPECT_NE(m.find("must exceed `min`"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "pipeline:\n  cloud_filters:\n    - type: mls\n      radios: 0.01\n");
+  m = scene_error(std::string(kScene) + "pipeline:\n  cloud_filters:\n    - type: mls\n      radios: 0.01\n");
   EXPECT_NE(m.find("unknown key 'pipeline.cloud_filters[0].radios'"), std::string::npos) << m;
 }
 
@@ -277,12 +269,12 @@ TEST(Run, VisibilityHullIsAScoredFloorAboveTheTruth) {
     EXPECT_GT(std::stod(f[9]), std::stod(f[10])) << line;  // estimate > truth
   }
   EXPECT_EQ(floors, 3);
-  std::string m = error_of(std::string(kScene) + "pipeline:\n  visibility_hull: 0.00001\n");
+  std::string m = scene_error(std::string(kScene) + "pipeline:\n  visibility_hull: 0.00001\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("[1e-4, 0.05]"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "pipeline:\n  visibility_hull: 0.5\n");
+  m = scene_error(std::string(kScene) + "pipeline:\n  visibility_hull: 0.5\n");
   EXPECT_NE(m.find("visibility_hull"), std::string::npos) << m;
-  m = error_of(std::string(kScene) + "  - type: convex_hull\n    name: visibility_hull\n");
+  m = scene_error(std::string(kScene) + "  - type: convex_hull\n    name: visibility_hull\n");
   EXPECT_NE(m.find("reserved"), std::string::npos) << m;
 }
 
@@ -318,7 +310,7 @@ pipeline:
   // Measured: 255 against 371 cm3. Every viewpoint at the frame's origin (a wrong
   // frame) gives 310, which this bound rejects.
   EXPECT_LT(facing, 0.8 * centroid);
-  const std::string m = error_of(std::string(kScene) + "  - type: poisson\n    orient: inward\n");
+  const std::string m = scene_error(std::string(kScene) + "  - type: poisson\n    orient: inward\n");
   EXPECT_NE(m.find("orient"), std::string::npos) << m;
   EXPECT_NE(m.find("facing"), std::string::npos) << m;
 }
@@ -440,7 +432,7 @@ TEST(External, TheOpen3dExampleRunsThroughTheProtocol) {
   EXPECT_NE(csv.find("wrote no answer.json"), std::string::npos) << csv;
   // Scene errors of the external entry name the line.
   const std::string m =
-      error_of(std::string(kScene) + "  - type: external\n    quantities: [mass]\n    command: [x]\n");
+      scene_error(std::string(kScene) + "  - type: external\n    quantities: [mass]\n    command: [x]\n");
   EXPECT_NE(m.find("scene.yaml:22"), std::string::npos) << m;
   EXPECT_NE(m.find("'estimators[3].quantities': unknown value 'mass'; allowed: volume"), std::string::npos) << m;
 }

@@ -1,4 +1,5 @@
 #include "bench/scene_file.h"
+#include "file_text.h"
 #include "scene_error.h"
 #include "bench/synth_run.h"
 
@@ -103,13 +104,6 @@ TEST(Scene, SensorRigAndBackgroundSectionsAreStrict) {
   // A rig without a sensor.
   m = error_of("seed: 1\nbunches:\n  - preset: wine-red\nrig:\n  type: turntable\n");
   EXPECT_NE(m.find("needs a `sensor:` section"), std::string::npos) << m;
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 TEST(SynthRun, OutputsAreByteIdenticalAtAnyThreadCount) {
