@@ -10,7 +10,8 @@ namespace grapebench {
 
 namespace {
 
-double since(std::chrono::steady_clock::time_point& t0) {
+// Seconds since t0, and t0 moved to now (one stage's lap).
+double lap(std::chrono::steady_clock::time_point& t0) {
   const auto t = std::chrono::steady_clock::now();
   const double s = std::chrono::duration<double>(t - t0).count();
   t0 = t;
@@ -46,13 +47,13 @@ Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p) {
   Luo2016Result r;
   auto t0 = std::chrono::steady_clock::now();
   r.region = segment_cluster(pair.left, p.segmentation);
-  r.seconds_segmentation = since(t0);
+  r.seconds_segmentation = lap(t0);
   if (!r.region.found()) {
     r.failure = "no cluster region";
     return r;
   }
   r.cut = detect_cutting_point(pair.left, r.region, p.cutting_point);
-  r.seconds_cutting_point = since(t0);
+  r.seconds_cutting_point = lap(t0);
   if (!r.cut.found()) {
     r.failure = r.cut.failure;
     return r;
@@ -61,16 +62,16 @@ Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p) {
   const NccMatch cut = ncc_disparity(left, right, r.cut.x, r.cut.y, pair.fx, pair.baseline, p.matching);
   if (!cut.ok()) {
     r.failure = "cutting point not matched: " + cut.failure;
-    r.seconds_matching = since(t0);
+    r.seconds_matching = lap(t0);
     return r;
   }
   r.cut_disparity = cut.disparity;
   r.cutting_point = triangulate_rectified(pair, r.cut.x, r.cut.y, cut.disparity);
-  r.seconds_matching = since(t0);
+  r.seconds_matching = lap(t0);
   // Eq. 6 needs the berries' depth before matching them; the paper does not say where
   // it comes from: the cutting point's.
   r.berries = detect_berries(pair.left, r.region, r.cutting_point.z(), pair.fx, p.berries);
-  r.seconds_berries = since(t0);
+  r.seconds_berries = lap(t0);
   for (const Detection& d : r.berries.berries) {
     const NccMatch m = ncc_disparity(left, right, d.circle.x, d.circle.y, pair.fx, pair.baseline, p.matching);
     if (!m.ok()) {
@@ -80,7 +81,7 @@ Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p) {
     r.berry_matched.push_back(static_cast<int>(r.berry_points.size()));
     r.berry_points.push_back(triangulate_rectified(pair, d.circle.x, d.circle.y, m.disparity));
   }
-  r.seconds_matching += since(t0);
+  r.seconds_matching += lap(t0);
   if (r.berry_points.size() < 2) {
     r.failure = "fewer than 2 berries matched (" + std::to_string(r.berries.berries.size()) + " detected)";
     return r;

@@ -8,6 +8,7 @@ shift || true
 
 packages=(
   build-essential cmake ninja-build ccache pkg-config git
+  lld  # the linker (CMakeLists.txt: 7.4 s -> 0.4 s per executable against PCL and VTK)
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libtbb-dev
   libembree-dev libopenmesh-dev libpcl-dev libosmesa6-dev libpng-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev

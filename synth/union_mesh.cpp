@@ -19,17 +19,17 @@ namespace grapebench {
 
 namespace {
 
-using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
-using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
+using ExactKernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using ExactMesh = CGAL::Surface_mesh<ExactKernel::Point_3>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-Mesh::Vertex_index add(Mesh& m, const Vec3& p) { return m.add_vertex(Kernel::Point_3(p.x(), p.y(), p.z())); }
+ExactMesh::Vertex_index add(ExactMesh& m, const Vec3& p) { return m.add_vertex(ExactKernel::Point_3(p.x(), p.y(), p.z())); }
 
 // Icosphere about `centre` whose enclosed volume is the ball's.
-Mesh ball_piece(const Vec3& centre, double radius, const std::vector<Vec3>& unit,
+ExactMesh ball_piece(const Vec3& centre, double radius, const std::vector<Vec3>& unit,
                 const std::vector<std::array<int, 3>>& faces, double volume_scale) {
-  Mesh m;
-  std::vector<Mesh::Vertex_index> v;
+  ExactMesh m;
+  std::vector<ExactMesh::Vertex_index> v;
   for (const Vec3& u : unit) v.push_back(add(m, centre + radius * volume_scale * u));
   for (const auto& f : faces) m.add_face(v[static_cast<std::size_t>(f[0])], v[static_cast<std::size_t>(f[1])], v[static_cast<std::size_t>(f[2])]);
   return m;
@@ -37,7 +37,7 @@ Mesh ball_piece(const Vec3& centre, double radius, const std::vector<Vec3>& unit
 
 // Coaxial segments start[k] -> end[k] with radii[k] as one stepped tube: a ring per
 // segment end, a flat annulus where the radius changes, fan caps at both ends.
-Mesh tube_piece(const std::vector<const Stem*>& chain, int sides) {
+ExactMesh tube_piece(const std::vector<const Stem*>& chain, int sides) {
   const Vec3 a = chain.front()->start, b = chain.back()->end;
   const Vec3 d = (b - a).normalized();
   Vec3 e1, e2;
@@ -52,9 +52,9 @@ Mesh tube_piece(const std::vector<const Stem*>& chain, int sides) {
   const double area_per_r2 = (n * std::sin(2 * M_PI / n) + 4 * n * std::pow(std::cos(M_PI / (2 * n)), 2) * std::sin(M_PI / n)) / 6;
   const double scale = std::sqrt(M_PI / area_per_r2);
   double phase = 0;
-  Mesh m;
+  ExactMesh m;
   const auto ring = [&](const Vec3& c, double r) {
-    std::vector<Mesh::Vertex_index> out;
+    std::vector<ExactMesh::Vertex_index> out;
     for (int k = 0; k < sides; ++k) {
       const double phi = 2 * M_PI * (k + phase) / sides;
       out.push_back(add(m, c + r * scale * (std::cos(phi) * e1 + std::sin(phi) * e2)));
@@ -62,7 +62,7 @@ Mesh tube_piece(const std::vector<const Stem*>& chain, int sides) {
     return out;
   };
   // `q_ahead`: q is turned half a side forward of p (q[k] between p[k] and p[k+1]).
-  const auto strip = [&](const std::vector<Mesh::Vertex_index>& p, const std::vector<Mesh::Vertex_index>& q,
+  const auto strip = [&](const std::vector<ExactMesh::Vertex_index>& p, const std::vector<ExactMesh::Vertex_index>& q,
                          bool q_ahead) {
     for (int k = 0; k < sides; ++k) {
       const auto k0 = static_cast<std::size_t>(k), k1 = static_cast<std::size_t>((k + 1) % sides);
@@ -75,8 +75,8 @@ Mesh tube_piece(const std::vector<const Stem*>& chain, int sides) {
       }
     }
   };
-  const Mesh::Vertex_index start_centre = add(m, a);
-  std::vector<Mesh::Vertex_index> previous = ring(a, chain.front()->radius);
+  const ExactMesh::Vertex_index start_centre = add(m, a);
+  std::vector<ExactMesh::Vertex_index> previous = ring(a, chain.front()->radius);
   for (int k = 0; k < sides; ++k) {
     m.add_face(start_centre, previous[static_cast<std::size_t>((k + 1) % sides)], previous[static_cast<std::size_t>(k)]);
   }
@@ -91,17 +91,17 @@ Mesh tube_piece(const std::vector<const Stem*>& chain, int sides) {
     for (int k = 1; k <= steps; ++k) {
       const Vec3 c = chain[j]->start + (chain[j]->end - chain[j]->start) * (static_cast<double>(k) / steps);
       phase = 0.5 - phase;
-      std::vector<Mesh::Vertex_index> next = ring(k == steps ? chain[j]->end : c, chain[j]->radius);
+      std::vector<ExactMesh::Vertex_index> next = ring(k == steps ? chain[j]->end : c, chain[j]->radius);
       strip(previous, next, phase > 0);
       previous = next;
     }
     if (j + 1 < chain.size() && chain[j + 1]->radius != chain[j]->radius) {
-      std::vector<Mesh::Vertex_index> next = ring(chain[j]->end, chain[j + 1]->radius);
+      std::vector<ExactMesh::Vertex_index> next = ring(chain[j]->end, chain[j + 1]->radius);
       strip(previous, next, false);  // the flat annulus: same phase
       previous = next;
     }
   }
-  const Mesh::Vertex_index end_centre = add(m, b);
+  const ExactMesh::Vertex_index end_centre = add(m, b);
   for (int k = 0; k < sides; ++k) {
     m.add_face(end_centre, previous[static_cast<std::size_t>(k)], previous[static_cast<std::size_t>((k + 1) % sides)]);
   }
@@ -136,7 +136,7 @@ TriMesh bunch_surface(const Bunch& bunch, const MeshOptions& o) {
     unit_volume += unit[static_cast<std::size_t>(f[0])].dot(unit[static_cast<std::size_t>(f[1])].cross(unit[static_cast<std::size_t>(f[2])])) / 6;
   }
   const double ball_scale = std::cbrt(4.0 / 3.0 * M_PI / unit_volume);
-  std::vector<Mesh> pieces;
+  std::vector<ExactMesh> pieces;
   for (const Berry& b : bunch.berries) pieces.push_back(ball_piece(b.centre, b.radius, unit, faces, ball_scale));
   std::vector<int> stacked_child(bunch.stems.size(), -1);
   for (std::size_t i = 0; i < bunch.stems.size(); ++i) {
@@ -153,9 +153,9 @@ TriMesh bunch_surface(const Bunch& bunch, const MeshOptions& o) {
   if (pieces.empty()) return {};
   // Pairwise, level by level: each union stays small, and the order is fixed.
   while (pieces.size() > 1) {
-    std::vector<Mesh> next;
+    std::vector<ExactMesh> next;
     for (std::size_t i = 0; i + 1 < pieces.size(); i += 2) {
-      Mesh out;
+      ExactMesh out;
       if (!PMP::corefine_and_compute_union(pieces[i], pieces[i + 1], out)) {
         throw std::runtime_error("mesh: CGAL could not form the union of the bunch's pieces");
       }
@@ -175,8 +175,8 @@ TriMesh bunch_surface(const Bunch& bunch, const MeshOptions& o) {
   // thread a bunch runs on, and the clean-up below depends on the order.
   Double m;
   {
-    const Mesh& exact = pieces.front();
-    std::vector<std::pair<std::array<double, 3>, Mesh::Vertex_index>> points;
+    const ExactMesh& exact = pieces.front();
+    std::vector<std::pair<std::array<double, 3>, ExactMesh::Vertex_index>> points;
     for (const auto v : exact.vertices()) {
       // Rounded from the exact value: the lazy kernel's approximation of a point
       // depends on what other threads evaluated, and the output must not.
@@ -186,7 +186,7 @@ TriMesh bunch_surface(const Bunch& bunch, const MeshOptions& o) {
                         v});
     }
     std::sort(points.begin(), points.end());
-    std::map<Mesh::Vertex_index, int> rank;
+    std::map<ExactMesh::Vertex_index, int> rank;
     std::vector<Double::Vertex_index> added;
     for (std::size_t i = 0; i < points.size(); ++i) {
       rank[points[i].second] = static_cast<int>(i);
