@@ -76,7 +76,9 @@ struct NormalTable {
     return value[i] + f * (static_cast<double>(value[i + 1]) - value[i]);
   }
 };
-// Namespace scope rather than a function's static: no guard on every draw.
+// Namespace scope rather than a function's static: no guard on every draw. Safe for
+// any global defined after this header's inclusion (inline variables initialise in
+// definition order within a translation unit); no static initialiser draws noise.
 inline const NormalTable kNormalTable;
 inline double hashed_normal_tabulated(std::uint64_t seed, std::uint64_t counter) {
   return kNormalTable(hashed_uniform(seed, counter));
