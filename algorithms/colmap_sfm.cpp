@@ -23,7 +23,10 @@ const ParamTable<ColmapParams>& colmap_param_table() {
           .integer("overlap", "count", &P::overlap, 1, 100, "sequential matcher: images matched after each one")
           .choice("sandbox", &P::sandbox, {{"bwrap", ProgramLimits::Sandbox::Bwrap}, {"none", ProgramLimits::Sandbox::None}},
                   "bwrap: COLMAP runs in bubblewrap, its temporary folder the only one it can write; none: where "
-                  "user namespaces are not available");
+                  "user namespaces are not available")
+          .boolean("repeatable", &P::repeatable,
+                   "preload grapebench's seed shim into COLMAP so its random draws (FLANN's kd-trees, RANSAC) "
+                   "come from the seed alone; false: COLMAP as installed, whose matches differ slightly between runs");
   return table;
 }
 
@@ -33,10 +36,12 @@ namespace {
 // bubblewrap, the process tree killed when the step ends or at the deadline); returns
 // the tail of what it logged (COLMAP logs to stderr).
 std::string run(const std::vector<std::string>& args, const fs::path& dir, const ColmapParams& p,
+                const std::vector<std::pair<std::string, std::string>>& environment,
                 std::chrono::steady_clock::time_point deadline) {
   ProgramLimits limits;
   limits.sandbox = p.sandbox;
   limits.cpu_seconds = p.timeout + 1;
+  limits.environment = environment;
   std::unique_ptr<ConfinedProgram> prog;
   try {
     prog = std::make_unique<ConfinedProgram>(args, dir, limits);
@@ -105,22 +110,31 @@ ColmapPoses colmap_sfm(const std::vector<RgbImage>& images, double fx, double fy
     o << fx << "," << fy << "," << cx << "," << cy;
     return o.str();
   }();
+  std::vector<std::pair<std::string, std::string>> env;
+  if (p.repeatable) {
+    const fs::path shim = GRAPEBENCH_COLMAP_SEED_SHIM;
+    std::error_code ec;
+    if (!fs::is_regular_file(shim, ec))
+      throw InputError("colmap: repeatable: the seed shim " + shim.string() +
+                       " is missing (rebuild grapebench, or set repeatable: false)");
+    env = {{"LD_PRELOAD", shim.string()}, {"GRAPEBENCH_COLMAP_SEED", s}};
+  }
   run({p.program, "feature_extractor", "--random_seed", s, "--database_path", db.string(), "--image_path", img.string(),
        "--ImageReader.camera_model", "PINHOLE", "--ImageReader.single_camera", "1", "--ImageReader.camera_params", params,
        "--SiftExtraction.use_gpu", "0", "--SiftExtraction.num_threads", "1"},
-      dir.path, p, deadline);
+      dir.path, p, env, deadline);
   run({p.program, "sequential_matcher", "--random_seed", s, "--database_path", db.string(), "--SiftMatching.use_gpu",
        "0", "--SiftMatching.num_threads", "1", "--SequentialMatching.overlap", std::to_string(p.overlap)},
-      dir.path, p, deadline);
+      dir.path, p, env, deadline);
   const std::string mapper_log = run({p.program, "mapper", "--random_seed", s, "--database_path", db.string(), "--image_path", img.string(),
        "--output_path", sparse.string(), "--Mapper.num_threads", "1", "--Mapper.multiple_models", "0",
        "--Mapper.ba_refine_focal_length", "0", "--Mapper.ba_refine_principal_point", "0",
        "--Mapper.ba_refine_extra_params", "0", "--Mapper.init_min_tri_angle", "4"},
-      dir.path, p, deadline);
+      dir.path, p, env, deadline);
   if (!fs::exists(sparse / "0")) throw InputError("colmap mapper made no model: " + mapper_log);
   run({p.program, "model_converter", "--input_path", (sparse / "0").string(), "--output_path", txt.string(),
        "--output_type", "TXT"},
-      dir.path, p, deadline);
+      dir.path, p, env, deadline);
   std::ifstream in(txt / "images.txt");
   std::stringstream text;
   text << in.rdbuf();

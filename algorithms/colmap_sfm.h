@@ -21,6 +21,7 @@ struct ColmapParams {
   double timeout = 600;            // s, the whole run; then its process group is killed
   int overlap = 5;                 // sequential matcher: each image against this many next ones
   ProgramLimits::Sandbox sandbox = ProgramLimits::Sandbox::Bwrap;
+  bool repeatable = true;  // preload algorithms/colmap_seed_shim.cpp: the same images give the same poses
 };
 const ParamTable<ColmapParams>& colmap_param_table();
 
@@ -35,8 +36,9 @@ struct ColmapPoses {
 
 // images: the pass's views (W x H x 3, one camera); fx, fy, cx, cy in pixels with rays
 // through (u + 0.5, v + 0.5) at cx (COLMAP's convention too). COLMAP runs on one
-// thread with `seed` as its --random_seed, yet two runs measured slightly different
-// poses (0.149 and 0.124 deg mean rotation error): not byte-identical. Throws
+// thread with `seed` as its --random_seed and, when `repeatable`, with the seed shim
+// preloaded; without the shim two runs gave slightly different poses (0.149 and 0.124
+// deg mean rotation error). Throws
 // InputError when the program cannot start, fails, times out, or writes a model it
 // cannot read.
 ColmapPoses colmap_sfm(const std::vector<RgbImage>& images, double fx, double fy, double cx, double cy,

@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <string_view>
 
 extern char** environ;
 
@@ -30,6 +31,7 @@ namespace {
 struct WardenPlan {
   const char* exec_path = nullptr;
   std::vector<char*> argv;
+  char** envp = nullptr;
   const char* work_dir = nullptr;
   int in = -1, out = -1, err = -1, status = -1;  // become fds 0, 1, 2 and 3
   rlimit cpu{}, memory{}, file{};
@@ -96,7 +98,7 @@ int lift(int fd) { return fd < 0 ? -1 : fcntl(fd, F_DUPFD, 10); }
     setrlimit(RLIMIT_AS, &p.memory);
     setrlimit(RLIMIT_FSIZE, &p.file);
     if (chdir(p.work_dir) != 0) _exit(126);
-    execve(p.exec_path, p.argv.data(), environ);
+    execve(p.exec_path, p.argv.data(), p.envp);
     write_text(2, "grapebench: cannot execute ");
     write_text(2, p.exec_path);
     write_text(2, "\n");
@@ -164,7 +166,9 @@ ConfinedProgram::ConfinedProgram(const std::vector<std::string>& argv, const fs:
     }
     args = {bwrap,          "--ro-bind", "/",      "/",       "--dev",           "/dev",           "--proc",
             "/proc",        "--bind",    work,     work,      "--chdir",         work,             "--unshare-all",
-            "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--setenv", "TMPDIR", work, "--", program};
+            "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--setenv", "TMPDIR", work};
+    for (const auto& [name, value] : limits.environment) args.insert(args.end(), {"--setenv", name, value});
+    args.insert(args.end(), {"--", program});
   } else {
     args = {program};
   }
@@ -174,6 +178,24 @@ ConfinedProgram::ConfinedProgram(const std::vector<std::string>& argv, const fs:
   plan.exec_path = args[0].c_str();
   for (auto& a : args) plan.argv.push_back(a.data());
   plan.argv.push_back(nullptr);
+  // Without the sandbox, the extra variables replace the harness's of the same name.
+  std::vector<std::string> env_text;
+  std::vector<char*> envp;
+  if (limits.sandbox == ProgramLimits::Sandbox::Bwrap || limits.environment.empty()) {
+    plan.envp = environ;
+  } else {
+    for (char** e = environ; e && *e; ++e) {
+      const std::string_view entry(*e);
+      const std::string_view name = entry.substr(0, entry.find('='));
+      bool replaced = false;
+      for (const auto& kv : limits.environment) replaced = replaced || kv.first == name;
+      if (!replaced) env_text.emplace_back(entry);
+    }
+    for (const auto& [name, value] : limits.environment) env_text.push_back(name + "=" + value);
+    for (auto& e : env_text) envp.push_back(e.data());
+    envp.push_back(nullptr);
+    plan.envp = envp.data();
+  }
   plan.work_dir = work.c_str();
   plan.cpu = limit_of(limits.cpu_seconds, 2);
   plan.memory = limit_of(limits.memory_mb * 1e6, 0);

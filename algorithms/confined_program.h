@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace grapebench {
@@ -26,6 +27,8 @@ struct ProgramLimits {
   double memory_mb = 8192;      // RLIMIT_AS of each of its processes (address space), MB
   double file_mb = 1024;        // RLIMIT_FSIZE: largest file it may write, MB
   std::size_t output_bytes = std::size_t{16} << 20;  // stdout + stderr read before it is stopped
+  // Variables set for the program (name, value), over the harness's own environment.
+  std::vector<std::pair<std::string, std::string>> environment;
 };
 
 class ConfinedProgram {

@@ -94,6 +94,19 @@ TEST_P(Confined, StderrFloodIsStoppedAtTheCapWithItsTail) {
   EXPECT_LE(prog->error_tail().size(), 403u);
 }
 
+// Extra variables reach the program and win over the harness's (COLMAP's seed shim
+// comes in by LD_PRELOAD this way); the rest of the environment is kept.
+TEST_P(Confined, ExtraEnvironmentReachesTheProgram) {
+  const fs::path work = fresh_dir("environment");
+  setenv("GB_CONFINED_KEPT", "kept", 1);
+  setenv("GB_CONFINED_SET", "harness", 1);
+  limits.environment = {{"GB_CONFINED_SET", "program"}, {"GB_CONFINED_NEW", "a b=c"}};
+  auto prog = shell("echo \"$GB_CONFINED_KEPT|$GB_CONFINED_SET|$GB_CONFINED_NEW\" >&2", work);
+  ASSERT_EQ(prog->wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::Exited);
+  EXPECT_EQ(prog->error_tail(), "kept|program|a b=c");
+  EXPECT_STREQ(std::getenv("GB_CONFINED_SET"), "harness");  // the harness's own is untouched
+}
+
 TEST_P(Confined, FileSizeAndCpuLimitsKillWithTheReason) {
   const fs::path work = fresh_dir("limits");
   limits.file_mb = 1;
