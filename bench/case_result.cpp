@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <stdexcept>
 
 #include "bench/build_info.h"
 #include "bench/fnv1a.h"
@@ -211,6 +213,9 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   }
   if (c.disparity_error_px >= 0) j["disparity_error_px"] = c.disparity_error_px;
   if (c.disparity_outliers >= 0) j["disparity_outliers"] = c.disparity_outliers;
+  if (!c.disparity_error_correlation.empty()) j["disparity_error_correlation"] = c.disparity_error_correlation;
+  if (c.disparity_fattening >= 0) j["disparity_fattening"] = c.disparity_fattening;
+  if (!c.matched_fraction.empty()) j["matched_fraction"] = c.matched_fraction;
   if (c.views_registered >= 0) j["views_registered"] = c.views_registered;
   if (!c.confusion.empty()) {
     nlohmann::ordered_json conf = nlohmann::ordered_json::array();
@@ -305,6 +310,20 @@ CaseResult case_from_json(const nlohmann::json& j) {
     }
   }
   if (j.contains("disparity_outliers")) c.disparity_outliers = j.at("disparity_outliers").get<double>();
+  if (j.contains("disparity_fattening")) c.disparity_fattening = checked(j, "disparity_fattening", 0, 1);
+  if (j.contains("matched_fraction")) {
+    c.matched_fraction = j.at("matched_fraction").get<std::vector<double>>();
+    for (const double v : c.matched_fraction)
+      if (!(v >= 0 && v <= 1)) throw std::runtime_error("matched_fraction: outside [0, 1]");
+  }
+  if (j.contains("disparity_error_correlation")) {
+    // NaN (no pairs) is written as null.
+    for (const auto& r : j.at("disparity_error_correlation")) {
+      const double v = r.is_null() ? std::numeric_limits<double>::quiet_NaN() : r.get<double>();
+      if (!(std::isnan(v) || (v >= -1 && v <= 1))) throw std::runtime_error("disparity_error_correlation: outside [-1, 1]");
+      c.disparity_error_correlation.push_back(v);
+    }
+  }
   if (j.contains("views_registered")) c.views_registered = j.at("views_registered").get<int>();
   if (j.contains("confusion")) {
     for (const auto& m : j.at("confusion")) {

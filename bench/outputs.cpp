@@ -3,6 +3,7 @@
 #include "bench/build_info.h"
 #include "bench/case_scores.h"
 #include "bench/classification_tables.h"
+#include "bench/protocols/classification.h"
 #include "bench/report.h"
 #include "bench/size_error.h"
 #include "synth/io.h"
@@ -122,6 +123,16 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
         rec.push_back({{"condition", labels[static_cast<std::size_t>(c.condition)]}, {"bunch", c.bunch},
                        {"points", c.points}, {"disparity_error_px", jnum(c.disparity_error_px)},
                        {"disparity_outliers", jnum(c.disparity_outliers)}});
+      if (c.disparity_error_px >= 0 && !c.disparity_error_correlation.empty()) {
+        nlohmann::ordered_json r = nlohmann::ordered_json::array();
+        for (const double v : c.disparity_error_correlation) r.push_back(jnum(v));
+        rec.back()["disparity_error_correlation_1_2_4_8px"] = r;
+        rec.back()["disparity_fattening"] = jnum(c.disparity_fattening);
+        nlohmann::ordered_json m = nlohmann::ordered_json::object();
+        for (std::size_t k = 0; k < c.matched_fraction.size() && k < 3; ++k)
+          m[plant_classes()[k]] = jnum(c.matched_fraction[k]);
+        rec.back()["matched_fraction"] = m;
+      }
     }
     j["reconstruction"] = rec;
     nlohmann::ordered_json conf = nlohmann::ordered_json::array();

@@ -97,9 +97,11 @@ struct Series {
   bool line = false;
 };
 
-// A scatter or line plot with axes, ticks, a legend and an optional y = x line.
+// A scatter or line plot with axes, ticks, a legend (top left, or bottom right where
+// the curves rise through the top left, as ROC curves do) and an optional y = x line.
+enum class Legend { TopLeft, BottomRight };
 std::string plot(const std::string& title, const std::string& xlabel, const std::string& ylabel,
-                 const std::vector<Series>& series, bool identity) {
+                 const std::vector<Series>& series, bool identity, Legend legend = Legend::TopLeft) {
   const double W = 460, H = 340, L = 64, R = 16, T = 30, B = 46;
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
   for (const auto& s : series) {
@@ -174,10 +176,13 @@ std::string plot(const std::string& title, const std::string& xlabel, const std:
     o << "\n";
   }
   if (series.size() > 1 || (!series.empty() && !series[0].name.empty())) {
+    const double n = static_cast<double>(series.size());
     for (std::size_t k = 0; k < series.size(); ++k) {
-      const double y = T + 12 + 14 * static_cast<double>(k);
-      o << "<circle cx=\"" << L + 10 << "\" cy=\"" << y - 4 << "\" r=\"4\" fill=\"" << colour(k) << "\"/><text x=\""
-        << L + 18 << "\" y=\"" << y << "\">" << esc(series[k].name) << "</text>\n";
+      const double y = legend == Legend::TopLeft ? T + 12 + 14 * static_cast<double>(k)
+                                                 : H - B - 8 - 14 * (n - 1 - static_cast<double>(k));
+      const double x = legend == Legend::TopLeft ? L + 10 : W - R - 150;
+      o << "<circle cx=\"" << x << "\" cy=\"" << y - 4 << "\" r=\"4\" fill=\"" << colour(k) << "\"/><text x=\""
+        << x + 8 << "\" y=\"" << y << "\">" << esc(series[k].name) << "</text>\n";
     }
   }
   o << "</svg>\n";
@@ -308,6 +313,7 @@ void header(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostring
 // Scores table: each figure with its 95 % bootstrap interval (BCa, seeded).
 void scores_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
+  if (scores.empty()) return;  // no scalar output (classification)
   h << "<h2>Scores</h2>\n<p>Brackets: 95 % bootstrap intervals (BCa, 2000 resamples of the cases, seeded from the "
        "scene). CCC: Lin's concordance of estimate and truth. Limits of agreement: Bland-Altman, mean difference "
        "+- 1.96 sd.</p>\n<table><tr><th class=l>condition</th><th class=l>estimator</th><th class=l>quantity</th>"
@@ -498,6 +504,7 @@ void pipeline_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, st
 // Estimated vs true, per estimator and quantity, coloured by condition.
 void scatter_section(const ReportContext& ctx, [[maybe_unused]] Report& rep, std::ostringstream& h) {
   [[maybe_unused]] const auto& [set, cases, scores, size_cells, eq] = ctx;
+  if (eq.empty()) return;
   h << "<h2>Estimated vs true</h2>\n<div class=plots>\n";
   for (const auto& [est, q] : eq) {
     const double k = display_scale(q);
@@ -853,8 +860,8 @@ void classification_section(const ReportContext& ctx, [[maybe_unused]] Report& r
     }
     if (full.empty()) continue;
     const std::string title = "berry ROC" + (labels.size() > 1 ? " (" + labels[k] + ")" : std::string());
-    h << plot(title, "false-positive rate", "true-positive rate", full, false)
-      << plot(title + ", FPR <= 0.2", "false-positive rate", "true-positive rate", zoom, false);
+    h << plot(title, "false-positive rate", "true-positive rate", full, false, Legend::BottomRight)
+      << plot(title + ", FPR <= 0.2", "false-positive rate", "true-positive rate", zoom, false, Legend::BottomRight);
   }
   h << "</div>\n";
 }

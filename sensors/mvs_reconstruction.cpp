@@ -18,7 +18,17 @@ const ParamTable<MvsNoiseParams>& mvs_noise_param_table() {
                 "sd of the matching's disparity error; depth sd z^2 sd / (f b), b the nearest other view")
           .real("outlier_fraction", "-", &P::outlier_fraction, 0, 1,
                 "fraction of mismatched returns, with a uniform disparity error instead")
-          .real("outlier_disparity", "px", &P::outlier_disparity, 0, 1000, "mismatches' disparity error bound");
+          .real("outlier_disparity", "px", &P::outlier_disparity, 0, 1000, "mismatches' disparity error bound")
+          .real("correlation_px", "px", &P::correlation_px, 0, 50,
+                "correlation length of the disparity errors: pixels k px apart along a row or column correlate by "
+                "exp(-k / correlation_px) (0: independent); summary.json's reconstruction gives SGBM's measured ones")
+          .integer("edge_fattening_px", "px", &P::edge_fattening_px, 0, 10,
+                   "returns within this many px behind a surface >= 3 % nearer may take its depth (window "
+                   "matchers' foreground fattening); 0: off")
+          .real("edge_fattening_fraction", "-", &P::edge_fattening_fraction, 0, 1,
+                "probability that such a return takes the nearer depth (summary.json's reconstruction gives SGBM's "
+                "outlier rate behind edges)")
+          .when("edge_fattening_px > 0", [](const P& p) { return p.edge_fattening_px > 0; });
   return table;
 }
 
@@ -46,6 +56,31 @@ struct Voxel {
 };
 
 }  // namespace
+
+std::vector<float> nearest_depth_within(const OrganisedCloud& c, int r) {
+  if (r <= 0) return {};
+  const int w = c.width, h = c.height;
+  std::vector<float> row_min(c.size(), std::numeric_limits<float>::infinity()), out(c.size());
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      float m = std::numeric_limits<float>::infinity();
+      for (int du = std::max(0, u - r); du <= std::min(w - 1, u + r); ++du) {
+        const std::size_t j = static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(du);
+        if (c.label[j] != static_cast<std::uint8_t>(Part::None) && c.true_depth[j] > 0) m = std::min(m, c.true_depth[j]);
+      }
+      row_min[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)] = m;
+    }
+  }
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      float m = std::numeric_limits<float>::infinity();
+      for (int dv = std::max(0, v - r); dv <= std::min(h - 1, v + r); ++dv)
+        m = std::min(m, row_min[static_cast<std::size_t>(dv) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)]);
+      out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)] = m;
+    }
+  }
+  return out;
+}
 
 FusedCloud fuse_returns(const std::vector<LabelledReturn>& returns, const FusionParams& p) {
   FusedCloud out;
@@ -78,6 +113,24 @@ FusedCloud fuse_returns(const std::vector<LabelledReturn>& returns, const Fusion
   return out;
 }
 
+std::vector<double> correlated_normal_field(int width, int height, double correlation_px, std::uint64_t seed) {
+  const std::size_t w = static_cast<std::size_t>(std::max(width, 0)), h = static_cast<std::size_t>(std::max(height, 0));
+  std::vector<double> field(w * h);
+  for (std::size_t i = 0; i < field.size(); ++i) field[i] = hashed_normal(seed, i);
+  if (!(correlation_px > 0) || field.empty()) return field;
+  // A stationary AR(1) recursion y_i = a y_(i-1) + sqrt(1 - a^2) x_i, y_0 = x_0, keeps
+  // unit variance and correlates lag k by a^k; along the rows, then along the columns.
+  const double a = std::exp(-1 / correlation_px), c = std::sqrt(1 - a * a);
+  for (std::size_t y = 0; y < h; ++y) {
+    double* row = field.data() + y * w;
+    for (std::size_t x = 1; x < w; ++x) row[x] = a * row[x - 1] + c * row[x];
+  }
+  for (std::size_t y = 1; y < h; ++y) {
+    for (std::size_t x = 0; x < w; ++x) field[y * w + x] = a * field[(y - 1) * w + x] + c * field[y * w + x];
+  }
+  return field;
+}
+
 FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const FusionParams& fusion,
                               std::uint64_t seed, const std::vector<Eigen::Isometry3d>& poses) {
   const std::size_t nv = scan.views.size();
@@ -95,21 +148,26 @@ FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const F
     const double f = v.camera.K.fx;
     const Eigen::Isometry3d& pose = poses.empty() ? v.camera.pose : poses[k];
     const OrganisedCloud& c = v.cloud;
+    const std::vector<double> error = correlated_normal_field(c.width, c.height, p.correlation_px, derive_seed(seed, k));
+    const std::vector<float> nearer = nearest_depth_within(c, p.edge_fattening_px);
     for (std::size_t i = 0; i < c.size(); ++i) {
       if (!c.valid[i]) continue;
       const auto part = static_cast<Part>(c.label[i]);
       if (part == Part::Background || part == Part::None) continue;
       const Vec3 x = c.xyz[i].cast<double>();  // camera frame
-      const double z = x.z();
+      double z = x.z();
+      if (!nearer.empty() && nearer[i] < 0.97 * z &&
+          hashed_uniform(derive_seed(seed, k + 3 * nv), i) < p.edge_fattening_fraction)
+        z = nearer[i];  // the pixel's own ray, at the foreground's depth
       const double sd = z * z * p.disparity_sd / (f * b);
       // Along the ray: scale the point so its depth moves by the error.
-      double z_new = z + sd * hashed_normal(derive_seed(seed, k), i);
+      double z_new = z + sd * error[i];
       if (p.outlier_fraction > 0 && hashed_uniform(derive_seed(seed, k + nv), i) < p.outlier_fraction) {
         const double d = f * b / z + p.outlier_disparity * (2 * hashed_uniform(derive_seed(seed, k + 2 * nv), i) - 1);
         if (d < 0.5) continue;  // no match in front of the camera
         z_new = f * b / d;
       }
-      returns.push_back({pose * (x * (z_new / z)), c.rgb[i], part, static_cast<int>(k), sd});
+      returns.push_back({pose * (x * (z_new / x.z())), c.rgb[i], part, static_cast<int>(k), sd});
     }
   }
   return fuse_returns(returns, fusion);

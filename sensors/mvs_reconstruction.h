@@ -23,6 +23,19 @@ struct MvsNoiseParams {
   // +-outlier_disparity px instead (depth f b / (f b / z + e)); 0 by default.
   double outlier_fraction = 0;
   double outlier_disparity = 10;  // px
+  // Spatial correlation of the disparity error within a view: pixels k px apart along
+  // a row or a column correlate by exp(-k / correlation_px); 0: independent pixels.
+  // Real matching errs in patches: SGBM's errors on seed 004's rows fell off about so,
+  // with a length of 7-10 px (docs/seed004.md).
+  double correlation_px = 0;
+  // Foreground fattening: a window matcher gives a pixel just behind a depth edge the
+  // nearer surface's disparity (its block straddles the edge). A return with a surface
+  // at least 3 % nearer within edge_fattening_px px (square window) takes, with
+  // probability edge_fattening_fraction, the nearest depth in that window, keeping its
+  // own label and colour. 0: off. SGBM on seed 004's rows: 20-46 % of such pixels off
+  // by more than 3 px, nearly all toward the camera (docs/seed004.md).
+  int edge_fattening_px = 0;
+  double edge_fattening_fraction = 1;
 };
 const ParamTable<MvsNoiseParams>& mvs_noise_param_table();
 
@@ -49,6 +62,18 @@ struct FusedCloud {
   std::vector<double> depth_sd;          // m, mean sigma_z of the voxel's returns
   std::size_t returns = 0;               // returns before fusion
 };
+
+// Per pixel of a width x height view (row-major), a standard normal error: with
+// correlation_px = 0 the hashed draws hashed_normal(seed, i); otherwise those draws
+// passed through a stationary AR(1) recursion along each row and then each column,
+// so every value keeps unit variance and values dx, dy px apart correlate by
+// exp(-(|dx| + |dy|) / correlation_px).
+std::vector<double> correlated_normal_field(int width, int height, double correlation_px, std::uint64_t seed);
+
+// Per pixel of a view (row-major), the smallest true depth (m) within r px, square
+// window, among the pixels that see a surface (infinity where none does); empty when
+// r = 0. A pixel whose own depth is well above it lies just behind a depth edge.
+std::vector<float> nearest_depth_within(const OrganisedCloud& c, int r);
 
 // Voxel fusion: one point per voxel seen by at least min_views views, in the order of
 // the voxels' integer coordinates (deterministic). Returns labelled Background or None

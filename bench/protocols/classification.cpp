@@ -1,11 +1,15 @@
 #include "bench/protocols/classification.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "bench/protocols/stereo_pair.h"
 #include "bench/scoring/classes.h"
+#include "bench/scoring/statistics.h"
+#include "sensors/mvs_reconstruction.h"
 #include "synth/generate.h"
 #include "synth/rng.h"
 
@@ -242,6 +246,51 @@ std::vector<Eigen::Isometry3d> perturbed_poses(const PipelineSpec& pl, const Sca
   return poses;
 }
 
+// SGBM's errors against the exact depths of the pixels it matched, over the views:
+// spread and outliers (the noise model's sigma_d and mismatches), how they correlate
+// along rows, the fattening behind depth edges, and each plant class's coverage.
+struct SgbmErrors {
+  std::vector<double> abs_error;  // px of disparity, per matched pixel with a true depth
+  LagCorrelation correlation{{1, 2, 4, 8}};
+  long behind_edges = 0, fattened = 0;  // matched pixels just behind an edge; of them, off > 3 px toward the camera
+  std::array<double, 3> seen{}, matched{};  // per plant class: pixels seeing it; of them, matched
+
+  // fb: focal length (px) x baseline (m); block: SGBM's block size (px).
+  void add_view(const OrganisedCloud& cloud, const SgbmCloud& c, double fb, int block) {
+    std::vector<float> signed_error(cloud.size(), std::numeric_limits<float>::quiet_NaN());  // px, matches within 3 px
+    // Pixels up to half a block behind a surface >= 3 % nearer: where fattening strikes.
+    const std::vector<float> nearer = nearest_depth_within(cloud, block / 2);
+    std::vector<char> has_match(cloud.size(), 0);
+    for (Eigen::Index i = 0; i < c.points.rows(); ++i) {
+      const std::uint32_t pixel = c.pixel[static_cast<std::size_t>(i)];
+      has_match[pixel] = 1;
+      const double z = c.points(i, 2), truth = cloud.truth(pixel);
+      if (!(truth > 0)) continue;
+      abs_error.push_back(std::abs(z - truth) * fb / (z * z));
+      const double e = fb / z - fb / truth;  // estimated minus true disparity
+      if (std::abs(e) <= 3) signed_error[pixel] = static_cast<float>(e);
+      if (!nearer.empty() && nearer[pixel] < 0.97 * truth) ++behind_edges, fattened += e > 3;
+    }
+    correlation.add(signed_error, cloud.width, cloud.height);
+    for (std::size_t px = 0; px < cloud.size(); ++px) {
+      const int cls = plant_class(static_cast<Part>(cloud.label[px]));
+      if (cls >= 0) seen[static_cast<std::size_t>(cls)] += 1, matched[static_cast<std::size_t>(cls)] += has_match[px];
+    }
+  }
+
+  void write(CaseResult& r) {
+    if (abs_error.empty()) return;
+    const auto off = std::count_if(abs_error.begin(), abs_error.end(), [](double e) { return e > 3; });
+    r.disparity_outliers = static_cast<double>(off) / static_cast<double>(abs_error.size());
+    auto mid = abs_error.begin() + static_cast<std::ptrdiff_t>(abs_error.size() / 2);
+    std::nth_element(abs_error.begin(), mid, abs_error.end());
+    r.disparity_error_px = 1.4826 * *mid;
+    r.disparity_error_correlation = correlation.correlations();
+    r.disparity_fattening = behind_edges > 0 ? static_cast<double>(fattened) / static_cast<double>(behind_edges) : 0;
+    for (std::size_t k = 0; k < 3; ++k) r.matched_fraction.push_back(seen[k] > 0 ? matched[k] / seen[k] : 0);
+  }
+};
+
 FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t seed, CaseResult& r) {
   std::vector<Eigen::Isometry3d> poses = perturbed_poses(pl, scan, seed, r);
   std::vector<bool> placed(scan.views.size(), true);
@@ -265,29 +314,21 @@ FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t s
     return mvs_reconstruction(kept, pl.noise_model, pl.fusion, seed, kept_poses);
   }
   std::vector<LabelledReturn> returns;
-  std::vector<double> disparity_error;  // px, per matched pixel with a true depth
+  SgbmErrors errors;
   for (std::size_t k = 0; k < scan.views.size(); ++k) {
     const ScanView& view = scan.views[k];
     if (!placed[k]) continue;
     const EstimatorInput in = stereo_input(view);  // throws unless the sensor renders a colour pair
     const SgbmCloud c = sgbm_reconstruction(*in.stereo, pl.sgbm);
     for (Eigen::Index i = 0; i < c.points.rows(); ++i) {
-      const std::uint32_t pixel = c.pixel[static_cast<std::size_t>(i)];
       // The exact label of the left pixel the point came from (its depth may be wrong).
-      const auto part = static_cast<Part>(view.cloud.label[pixel]);
-      const double z = c.points(i, 2), truth = view.cloud.truth(pixel);
-      if (truth > 0) disparity_error.push_back(std::abs(z - truth) * in.stereo->fx * in.stereo->baseline / (z * z));
+      const auto part = static_cast<Part>(view.cloud.label[c.pixel[static_cast<std::size_t>(i)]]);
       returns.push_back({poses[k] * Vec3(c.points.row(i).transpose()), c.colours[static_cast<std::size_t>(i)],
                          part, static_cast<int>(k), 0.0});
     }
+    errors.add_view(view.cloud, c, in.stereo->fx * in.stereo->baseline, pl.sgbm.block_size);
   }
-  if (!disparity_error.empty()) {
-    const auto off = std::count_if(disparity_error.begin(), disparity_error.end(), [](double e) { return e > 3; });
-    r.disparity_outliers = static_cast<double>(off) / static_cast<double>(disparity_error.size());
-    auto mid = disparity_error.begin() + static_cast<std::ptrdiff_t>(disparity_error.size() / 2);
-    std::nth_element(disparity_error.begin(), mid, disparity_error.end());
-    r.disparity_error_px = 1.4826 * *mid;
-  }
+  errors.write(r);
   return fuse_returns(returns, pl.fusion);
 }
 

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <utility>
 
 namespace grapebench {
 
@@ -215,6 +217,38 @@ PairedComparison compare_paired(const std::vector<double>& a, const std::vector<
   }
   c.interval = percentile_interval(means, level);
   return c;
+}
+
+LagCorrelation::LagCorrelation(std::vector<int> lags) : lags_(std::move(lags)), sums_(lags_.size()) {
+  for (const int l : lags_)
+    if (l <= 0) throw std::invalid_argument("LagCorrelation: lags must be positive");
+  for (auto& s : sums_) s.fill(0);
+}
+
+void LagCorrelation::add(const std::vector<float>& map, int width, int height) {
+  if (width <= 0 || height <= 0 || map.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
+    throw std::invalid_argument("LagCorrelation: the map is not width x height");
+  for (std::size_t l = 0; l < lags_.size(); ++l) {
+    auto& s = sums_[l];
+    for (int y = 0; y < height; ++y) {
+      const float* row = map.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(width);
+      for (int x = 0; x + lags_[l] < width; ++x) {
+        const double a = row[x], b = row[x + lags_[l]];
+        if (std::isnan(a) || std::isnan(b)) continue;
+        s[0] += 1, s[1] += a, s[2] += b, s[3] += a * a, s[4] += b * b, s[5] += a * b;
+      }
+    }
+  }
+}
+
+std::vector<double> LagCorrelation::correlations() const {
+  std::vector<double> r;
+  for (const auto& s : sums_) {
+    const double n = s[0];
+    const double vx = s[3] - s[1] * s[1] / n, vy = s[4] - s[2] * s[2] / n, cxy = s[5] - s[1] * s[2] / n;
+    r.push_back(n >= 3 && vx > 0 && vy > 0 ? cxy / std::sqrt(vx * vy) : kNaN);
+  }
+  return r;
 }
 
 }  // namespace grapebench

@@ -3,6 +3,7 @@
 // estimators are compared on their per-case absolute errors, not on their summaries.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -52,6 +53,23 @@ struct PairedComparison {
   Interval interval;           // bootstrap interval of that mean
   SignedRankTest test;
 };
+// Spatial correlation of an error map: Pearson's r between each value and the one
+// `lag` px to its right, over every pair where both exist, pooled over the maps added
+// (seed 004: SGBM's signed disparity errors, per view). One r per lag; NaN with fewer
+// than 3 pairs or no spread.
+class LagCorrelation {
+ public:
+  explicit LagCorrelation(std::vector<int> lags);
+  // map: width x height, row-major; NaN where there is no value.
+  void add(const std::vector<float>& map, int width, int height);
+  std::vector<double> correlations() const;
+  const std::vector<int>& lags() const { return lags_; }
+
+ private:
+  std::vector<int> lags_;
+  std::vector<std::array<double, 6>> sums_;  // per lag: n, sx, sy, sxx, syy, sxy
+};
+
 PairedComparison compare_paired(const std::vector<double>& abs_error_a, const std::vector<double>& abs_error_b,
                                 std::uint64_t seed, int resamples = 2000, double level = 0.95);
 

@@ -756,6 +756,24 @@ estimators:
   EXPECT_LT(sd, 3.0);
   EXPECT_GT(summary["reconstruction"][0]["points"].get<int>(), 1000);
   for (const auto& cell : summary["classification"]) EXPECT_EQ(cell["cases"], 1) << cell.dump();
+  // The error's structure: correlated between neighbours, less so further apart; the
+  // pixels behind edges partly fattened; every class partly matched.
+  const auto& rec = summary["reconstruction"][0];
+  const auto r = rec["disparity_error_correlation_1_2_4_8px"].get<std::vector<double>>();
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_GT(r[0], 0.3);
+  EXPECT_LE(r[0], 1.0);
+  EXPECT_GT(r[0], r[3]);
+  EXPECT_GE(rec["disparity_fattening"].get<double>(), 0.0);
+  EXPECT_LT(rec["disparity_fattening"].get<double>(), 1.0);
+  for (const char* cls : {"berry", "branch", "leaf"}) {
+    EXPECT_GT(rec["matched_fraction"][cls].get<double>(), 0.05) << cls;
+    EXPECT_LE(rec["matched_fraction"][cls].get<double>(), 1.0) << cls;
+  }
+  // The case file keeps them and reads back.
+  const nlohmann::json c = nlohmann::json::parse(slurp(a / "cases" / "c0000_b0000.json"));
+  EXPECT_EQ(c["disparity_error_correlation"].size(), 4u);
+  EXPECT_EQ(c["matched_fraction"].size(), 3u);
 }
 
 // Seed 004 through the external protocol: a classification request (coloured PLY,

@@ -11,6 +11,7 @@
 #include "sensors/rig.h"
 #include "synth/foliage.h"
 #include "synth/generate.h"
+#include "synth/rng.h"
 #include "synth/vine_row.h"
 
 namespace grapebench {
@@ -96,6 +97,103 @@ TEST(MvsReconstruction, DepthErrorFollowsTheStereoFormulaAndTheSeed) {
   Scan one = scan;
   one.views.resize(1);
   EXPECT_THROW(mvs_reconstruction(one, p, fusion, 1), InputError);
+}
+
+// The correlated error field: unit variance, and neighbours k px apart along a row or a
+// column correlated by exp(-k / L); L = 0 is the independent draws, bit for bit.
+TEST(MvsReconstruction, CorrelatedFieldHasUnitVarianceAndExponentialCorrelation) {
+  // About w h / (4 L^2) independent values: 19,000 at L = 2.5, so the sample variance
+  // has an sd near 0.01; the tolerances below are 5 sd.
+  const int w = 800, h = 600;
+  const std::vector<double> iid = correlated_normal_field(w, h, 0, 17);
+  for (std::size_t i = 0; i < iid.size(); i += 97) ASSERT_EQ(iid[i], hashed_normal(17, i));
+  for (const double L : {1.0, 2.5}) {
+    const std::vector<double> e = correlated_normal_field(w, h, L, 17);
+    double s = 0, ss = 0;
+    for (const double x : e) s += x, ss += x * x;
+    const double n = static_cast<double>(e.size()), var = ss / n - (s / n) * (s / n);
+    EXPECT_NEAR(s / n, 0, 0.05) << L;
+    EXPECT_NEAR(var, 1, 0.06) << L;
+    // The first row and column too: the recursion starts stationary.
+    double edge = 0;
+    for (int x = 0; x < w; ++x) edge += e[static_cast<std::size_t>(x)] * e[static_cast<std::size_t>(x)];
+    for (int y = 0; y < h; ++y) edge += e[static_cast<std::size_t>(y * w)] * e[static_cast<std::size_t>(y * w)];
+    EXPECT_NEAR(edge / (w + h), 1, 0.35) << L;
+    for (const int k : {1, 2, 4}) {
+      double row = 0, col = 0;
+      int nr = 0, nc = 0;
+      for (int y = 0; y + k < h; ++y) {
+        for (int x = 0; x + k < w; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y * w + x);
+          row += e[i] * e[i + static_cast<std::size_t>(k)], ++nr;
+          col += e[i] * e[i + static_cast<std::size_t>(k * w)], ++nc;
+        }
+      }
+      const double expected = std::exp(-k / L);
+      EXPECT_NEAR(row / nr / var, expected, 0.05) << "L " << L << " lag " << k;
+      EXPECT_NEAR(col / nc / var, expected, 0.05) << "L " << L << " lag " << k;
+    }
+  }
+  EXPECT_NE(correlated_normal_field(w, h, 1.0, 18), correlated_normal_field(w, h, 1.0, 17));
+}
+
+// Two views 10 m apart (their points never share a voxel) of a step: berries at 1 m in
+// columns 0-9, a leaf at 2 m in columns 10-29 (20 rows). Exact returns on each pixel's
+// ray.
+Scan step_scan() {
+  Scan scan;
+  for (int k = 0; k < 2; ++k) {
+    ScanView v;
+    v.rig.name = "view_" + std::to_string(k);
+    v.camera.K = Intrinsics{30, 20, 100, 100, 15, 10};
+    v.camera.pose = Eigen::Isometry3d::Identity();
+    v.camera.pose.translation() = Vec3(10.0 * k, 0, 0);
+    v.rig.pose = v.camera.pose;
+    v.cloud.resize(30, 20);
+    for (int r = 0; r < 20; ++r) {
+      for (int u = 0; u < 30; ++u) {
+        const std::size_t i = static_cast<std::size_t>(r * 30 + u);
+        const double z = u < 10 ? 1.0 : 2.0;
+        v.cloud.valid[i] = 1;
+        v.cloud.label[i] = static_cast<std::uint8_t>(u < 10 ? Part::Berry : Part::Leaf);
+        v.cloud.true_depth[i] = static_cast<float>(z);
+        v.cloud.xyz[i] = Eigen::Vector3f(static_cast<float>((u + 0.5 - 15) / 100 * z),
+                                         static_cast<float>((r + 0.5 - 10) / 100 * z), static_cast<float>(z));
+        v.cloud.rgb[i] = {0, 0, 0};
+      }
+    }
+    scan.views.push_back(std::move(v));
+  }
+  return scan;
+}
+
+// Foreground fattening: leaf pixels within r px of the berries' edge take the berries'
+// depth (all of them at fraction 1, about half at 0.5) and keep their label; off, the
+// leaf stays at 2 m.
+TEST(MvsReconstruction, EdgeFatteningMovesPixelsBehindAnEdgeToTheForeground) {
+  const Scan scan = step_scan();
+  FusionParams fusion;
+  fusion.voxel = 0.0005, fusion.min_views = 1;
+  const auto leaves_at_1m = [&](const MvsNoiseParams& p) {
+    const FusedCloud c = mvs_reconstruction(scan, p, fusion, 3);
+    int n = 0;
+    for (std::size_t i = 0; i < c.points.size(); ++i) n += c.labels[i] == Part::Leaf && std::abs(c.points[i].z() - 1) < 1e-6;
+    return n;
+  };
+  MvsNoiseParams p;
+  p.disparity_sd = 0;
+  EXPECT_EQ(leaves_at_1m(p), 0);
+  p.edge_fattening_px = 2;
+  EXPECT_EQ(leaves_at_1m(p), 2 * 20 * 2);  // columns 10 and 11, 20 rows, 2 views
+  p.edge_fattening_px = 3;
+  EXPECT_EQ(leaves_at_1m(p), 3 * 20 * 2);
+  p.edge_fattening_fraction = 0.5;
+  EXPECT_NEAR(leaves_at_1m(p), 60, 20);
+  const std::vector<float> nearest = nearest_depth_within(scan.views[0].cloud, 2);
+  EXPECT_EQ(nearest[11], 1.0f);
+  EXPECT_EQ(nearest[12], 2.0f);
+  EXPECT_EQ(nearest[0], 1.0f);
+  EXPECT_TRUE(nearest_depth_within(scan.views[0].cloud, 0).empty());
 }
 
 }  // namespace

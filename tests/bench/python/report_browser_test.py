@@ -1,7 +1,8 @@
 """The report in headless Chromium (issue 22): no script error, every plot of plots/ drawn
 with a size, and the page's own check catches a broken script and a missing plot.
 
-usage: report_browser_test.py <grapebench> <scene.yaml> <scratch folder> [screenshot.png]
+usage: report_browser_test.py <grapebench> <scene.yaml> <scratch folder> [--no-3d] [screenshot.png]
+--no-3d: the protocol's report has no 3D view (classification); it must then be absent.
 """
 import re
 import shutil
@@ -23,7 +24,11 @@ def browse(page):
 
 
 def main():
-    exe, scene, scratch = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+    args = sys.argv[1:]
+    no_3d = "--no-3d" in args
+    args = [a for a in args if a != "--no-3d"]
+    exe, scene, scratch = args[0], args[1], Path(args[2])
+    screenshot = args[3] if len(args) > 3 else None
     shutil.rmtree(scratch, ignore_errors=True)
     subprocess.run([exe, "run", scene, "-q", "--out", str(scratch)], check=True, stdout=subprocess.DEVNULL)
     folder = next(p for p in scratch.iterdir() if p.is_dir())
@@ -34,7 +39,12 @@ def main():
     print(f"{report}: {line}; 3D view: {viewer}")
     assert errors == 0, line
     assert drawn >= len(plot_files), f"{drawn} plots drawn, {len(plot_files)} in plots/"
-    assert viewer == "drawn", f"the 3D view of the first bunch was not drawn: '{viewer}'"
+    if no_3d:  # classification: the berry ROC, in full and magnified, must be among them
+        assert report.read_text().count("berry ROC") >= 2, "no ROC plots in the classification report"
+    if no_3d:
+        assert viewer == "", f"a 3D view where the protocol has none: '{viewer}'"
+    else:
+        assert viewer == "drawn", f"the 3D view of the first bunch was not drawn: '{viewer}'"
     # The check can fail: a broken script and a plot taken out are both seen.
     html = report.read_text()
     broken = folder / "broken.html"
@@ -46,9 +56,9 @@ def main():
     missing.write_text(html[:first_svg] + html[html.index("</svg>", first_svg) + len("</svg>"):])
     drawn_missing, _, _, _ = browse(missing)
     assert drawn_missing == drawn - 1, (drawn_missing, drawn)
-    if len(sys.argv) > 4:
+    if screenshot:
         subprocess.run(["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-                        "--virtual-time-budget=20000", "--window-size=1400,2000", "--screenshot=" + sys.argv[4],
+                        "--virtual-time-budget=20000", "--window-size=1400,2000", "--screenshot=" + screenshot,
                         report.resolve().as_uri()], check=True, capture_output=True, timeout=180)
 
 

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 namespace grapebench {
 namespace {
@@ -97,6 +99,25 @@ TEST(Statistics, BootstrapIntervalsCoverTheTrueValueAtAboutTheStatedRate) {
   EXPECT_LT(bias_rate, 0.99) << bias_rate;
   std::printf("coverage of the 95 %% intervals over %d runs of %d cases: RMSE %.3f, bias %.3f\n", runs, n, rmse_rate,
               bias_rate);
+}
+
+// Lag correlation by hand: a row that alternates gives r = -1 at lag 1 and +1 at lag
+// 2; NaN gaps drop their pairs; maps pool.
+TEST(Statistics, LagCorrelationByHand) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  LagCorrelation c({1, 2, 3});
+  c.add({1, -1, 1, -1, 1, -1}, 6, 1);
+  c.add({2, -2, 2, nan, 2, -2, 2, -2}, 4, 2);
+  const std::vector<double> r = c.correlations();
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_NEAR(r[0], -1, 1e-12);
+  EXPECT_NEAR(r[1], 1, 1e-12);
+  EXPECT_NEAR(r[2], -1, 1e-12);
+  LagCorrelation few({1});
+  few.add({1, 2, nan, 4}, 4, 1);  // one pair
+  EXPECT_TRUE(std::isnan(few.correlations()[0]));
+  EXPECT_THROW(few.add({1, 2, 3}, 2, 2), std::invalid_argument);
+  EXPECT_THROW(LagCorrelation({0}), std::invalid_argument);
 }
 
 }  // namespace
