@@ -32,7 +32,7 @@ struct MvsNoiseParams {
   // nearer surface's disparity (its block straddles the edge). A return with a surface
   // at least 3 % nearer within edge_fattening_px px (square window) takes, with
   // probability edge_fattening_fraction, the nearest depth in that window, keeping its
-  // own label and colour. 0: off. SGBM on seed 004's rows: 20-46 % of such pixels off
+  // own label and colour. 0: off. SGBM on seed 004's rows: 20-26 % of such pixels off
   // by more than 3 px, nearly all toward the camera (docs/seed004.md).
   int edge_fattening_px = 0;
   double edge_fattening_fraction = 1;
