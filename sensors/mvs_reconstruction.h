@@ -33,7 +33,7 @@ struct MvsNoiseParams {
   // at least 3 % nearer within edge_fattening_px px (square window) takes, with
   // probability edge_fattening_fraction, the nearest depth in that window, keeping its
   // own label and colour. 0: off. SGBM on seed 004's rows: 20-26 % of such pixels off
-  // by more than 3 px, nearly all toward the camera (docs/seed004.md).
+  // by more than 3 px toward the camera (docs/seed004.md).
   int edge_fattening_px = 0;
   double edge_fattening_fraction = 1;
 };
