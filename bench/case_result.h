@@ -87,10 +87,10 @@ struct CaseResult {
   // (px): 1.4826 x median |z - z_true| f b / z^2 over the matched pixels (sgbm), or the
   // model's own sd (noise_model); -1 for other protocols.
   double disparity_error_px = -1;
-  double disparity_outliers = -1;
+  double disparity_outliers = -1;  // fraction of matched pixels off by more than 3 px (sgbm; 0 for the model)
   // classification, sgbm: Pearson's r of the signed disparity errors (matches within
-  // 3 px) of pixels 1, 2, 4 and 8 px apart along a row (kDisparityLags), pooled over
-  // the views; empty otherwise.
+  // 3 px) of pixels 1, 2, 4 and 8 px apart along a row, pooled over the views; empty
+  // otherwise.
   std::vector<double> disparity_error_correlation;
   // classification, sgbm: of the matched pixels within half a block behind a surface
   // >= 3 % nearer, the fraction off by more than 3 px toward the camera (foreground
@@ -99,7 +99,7 @@ struct CaseResult {
   // classification, sgbm: per plant class (berry, branch, leaf), the fraction of the
   // views' pixels seeing it that SGBM matched (after its left-right check); empty otherwise.
   std::vector<double> matched_fraction;
-  int views_registered = -1;  // classification with poses: colmap: views the SfM placed  // fraction of matched pixels off by more than 3 px (sgbm; 0 for the model)
+  int views_registered = -1;  // classification with poses: colmap: views the SfM placed
   // Not deterministic:
   double scan_seconds = 0, segmentation_seconds = 0, registration_seconds = 0, filter_seconds = 0;
 };

@@ -129,7 +129,7 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
         rec.back()["disparity_error_correlation_1_2_4_8px"] = r;
         rec.back()["disparity_fattening"] = jnum(c.disparity_fattening);
         nlohmann::ordered_json m = nlohmann::ordered_json::object();
-        for (std::size_t k = 0; k < c.matched_fraction.size() && k < 3; ++k)
+        for (std::size_t k = 0; k < c.matched_fraction.size() && k < plant_classes().size(); ++k)
           m[plant_classes()[k]] = jnum(c.matched_fraction[k]);
         rec.back()["matched_fraction"] = m;
       }

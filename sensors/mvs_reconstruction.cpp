@@ -148,7 +148,11 @@ FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const F
     const double f = v.camera.K.fx;
     const Eigen::Isometry3d& pose = poses.empty() ? v.camera.pose : poses[k];
     const OrganisedCloud& c = v.cloud;
-    const std::vector<double> error = correlated_normal_field(c.width, c.height, p.correlation_px, derive_seed(seed, k));
+    // Independent errors are drawn per return; only a correlated field is built whole.
+    const std::uint64_t error_seed = derive_seed(seed, k);
+    const std::vector<double> field = p.correlation_px > 0
+                                          ? correlated_normal_field(c.width, c.height, p.correlation_px, error_seed)
+                                          : std::vector<double>{};
     const std::vector<float> nearer = nearest_depth_within(c, p.edge_fattening_px);
     for (std::size_t i = 0; i < c.size(); ++i) {
       if (!c.valid[i]) continue;
@@ -156,12 +160,12 @@ FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const F
       if (part == Part::Background || part == Part::None) continue;
       const Vec3 x = c.xyz[i].cast<double>();  // camera frame
       double z = x.z();
-      if (!nearer.empty() && nearer[i] < 0.97 * z &&
+      if (!nearer.empty() && nearer[i] < kBehindEdgeDepthRatio * z &&
           hashed_uniform(derive_seed(seed, k + 3 * nv), i) < p.edge_fattening_fraction)
         z = nearer[i];  // the pixel's own ray, at the foreground's depth
       const double sd = z * z * p.disparity_sd / (f * b);
       // Along the ray: scale the point so its depth moves by the error.
-      double z_new = z + sd * error[i];
+      double z_new = z + sd * (field.empty() ? hashed_normal(error_seed, i) : field[i]);
       if (p.outlier_fraction > 0 && hashed_uniform(derive_seed(seed, k + nv), i) < p.outlier_fraction) {
         const double d = f * b / z + p.outlier_disparity * (2 * hashed_uniform(derive_seed(seed, k + 2 * nv), i) - 1);
         if (d < 0.5) continue;  // no match in front of the camera

@@ -72,8 +72,10 @@ std::vector<double> correlated_normal_field(int width, int height, double correl
 
 // Per pixel of a view (row-major), the smallest true depth (m) within r px, square
 // window, among the pixels that see a surface (infinity where none does); empty when
-// r = 0. A pixel whose own depth is well above it lies just behind a depth edge.
+// r = 0. A pixel lies just behind a depth edge where that depth is below
+// kBehindEdgeDepthRatio times its own (a surface at least 3 % nearer).
 std::vector<float> nearest_depth_within(const OrganisedCloud& c, int r);
+inline constexpr double kBehindEdgeDepthRatio = 0.97;
 
 // Voxel fusion: one point per voxel seen by at least min_views views, in the order of
 // the voxels' integer coordinates (deterministic). Returns labelled Background or None

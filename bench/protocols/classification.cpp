@@ -269,7 +269,7 @@ struct SgbmErrors {
       abs_error.push_back(std::abs(z - truth) * fb / (z * z));
       const double e = fb / z - fb / truth;  // estimated minus true disparity
       if (std::abs(e) <= 3) signed_error[pixel] = static_cast<float>(e);
-      if (!nearer.empty() && nearer[pixel] < 0.97 * truth) ++behind_edges, fattened += e > 3;
+      if (!nearer.empty() && nearer[pixel] < kBehindEdgeDepthRatio * truth) ++behind_edges, fattened += e > 3;
     }
     correlation.add(signed_error, cloud.width, cloud.height);
     for (std::size_t px = 0; px < cloud.size(); ++px) {

@@ -63,7 +63,6 @@ class LagCorrelation {
   // map: width x height, row-major; NaN where there is no value.
   void add(const std::vector<float>& map, int width, int height);
   std::vector<double> correlations() const;
-  const std::vector<int>& lags() const { return lags_; }
 
  private:
   std::vector<int> lags_;
