@@ -1,12 +1,15 @@
-// Seed 004's dense matching (OpenCV StereoSGBM with a left-right check) on a rendered
-// textured plane: depths within the stereo formula's error, colours from the left
-// image, occluded pixels refused by the left-right check.
+// Seed 004's dense matching (OpenCV StereoSGBM with a left-right check) on a textured
+// plane, drawn exactly and rendered with OSMesa by the stereo rig: depths within the
+// stereo formula's error, colours from the left image.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "algorithms/sgbm_reconstruction.h"
+#include "sensors/stereo_rgb.h"
+#include "synth/foliage.h"
 #include "synth/rng.h"
 
 namespace grapebench {
@@ -73,6 +76,59 @@ TEST(SgbmReconstruction, TexturedPlaneDepthsWithinTheStereoFormulasError) {
   const double u = c.pixel[mid] % 320;
   EXPECT_NEAR(c.points(static_cast<Eigen::Index>(mid), 0), (u - pair.cx) * c.points(static_cast<Eigen::Index>(mid), 2) / pair.fx,
               1e-9);
+}
+
+// A wall of textured leaf (the rig's leaf texture, 3 mm cells) at y = 0, facing a
+// camera at distance z: 1 m x 0.7 m of 10 mm squares, each two leaf triangles.
+Foliage leaf_wall() {
+  Foliage f;
+  const int nx = 100, nz = 70;
+  for (int i = 0; i <= nx; ++i)
+    for (int k = 0; k <= nz; ++k) f.vertices.push_back(Vec3(-0.5 + 0.01 * i, 0, -0.35 + 0.01 * k));
+  const auto at = [&](int i, int k) { return i * (nz + 1) + k; };
+  for (int i = 0; i < nx; ++i) {
+    for (int k = 0; k < nz; ++k) {
+      f.triangles.push_back({at(i, k), at(i + 1, k), at(i + 1, k + 1)});
+      f.triangles.push_back({at(i, k), at(i + 1, k + 1), at(i, k + 1)});
+    }
+  }
+  f.triangle_colour.assign(f.triangles.size(), Rgb{0.25f, 0.5f, 0.15f});
+  return f;
+}
+
+TEST(SgbmReconstruction, RenderedTexturedPlaneDepthsWithinTheStereoFormulasError) {
+  const double z = 0.8;
+  const RayScene scene(Bunch{}, std::nullopt, leaf_wall());
+  StereoRgbParams rp;  // seed 001's rig: 800 x 600, 1000 px focal length, 5 cm baseline
+  rp.leaf_texture = 0.4, rp.texture_cells = 4;  // seed 004's textured leaves
+  rp.background = StereoRgbParams::Background::Plain;
+  const StereoRgb rig(rp);
+  const OrganisedCloud frame = rig.capture(scene, look_at(Vec3(0, -z, 0), Vec3::Zero()), 3);
+  StereoPair pair;
+  const Intrinsics K = rig.intrinsics();
+  pair.fx = K.fx, pair.fy = K.fy, pair.cx = K.opencv_cx(), pair.cy = K.opencv_cy(), pair.baseline = frame.baseline;
+  pair.left = {frame.width, frame.height, frame.left_image};
+  pair.right = {frame.width, frame.height, frame.right_image};
+  SgbmParams p;  // the protocol's defaults
+  const SgbmCloud c = sgbm_reconstruction(pair, p);
+  std::vector<double> err;
+  for (Eigen::Index i = 0; i < c.points.rows(); ++i) err.push_back(c.points(i, 2) - z);
+  std::sort(err.begin(), err.end());
+  const double unit = z * z / (pair.fx * pair.baseline);  // depth error of 1 px of disparity: 12.8 mm
+  const double median = err[err.size() / 2] / unit;
+  const double spread = 0.5 * (err[err.size() * 84 / 100] - err[err.size() * 16 / 100]) / unit;
+  std::size_t far = 0;  // off by more than 1 px
+  for (double e : err) far += std::abs(e) > unit;
+  const double searched = K.fx * rp.baseline / p.min_depth;  // the unmatched left strip is at most this wide
+  const double matchable = (frame.width - searched) * frame.height;
+  std::printf("[sgbm] rendered plane: %zu points (%.1f %% of the matchable area), median %.3f px, sd %.3f px, %.2f %% beyond 1 px\n",
+              err.size(), 100.0 * err.size() / matchable, median, spread, 100.0 * far / err.size());
+  EXPECT_GT(static_cast<double>(err.size()), 0.8 * matchable);
+  EXPECT_LT(std::abs(median), 0.1);  // px of disparity
+  EXPECT_LT(spread, 0.3);
+  EXPECT_LT(static_cast<double>(far), 0.01 * err.size());
+  // Colours are the left image's.
+  EXPECT_EQ(c.colours[0][1], pair.left.data[3 * c.pixel[0] + 1]);
 }
 
 TEST(SgbmReconstruction, RefusesBadPairs) {
