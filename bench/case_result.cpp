@@ -216,6 +216,8 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   if (!c.disparity_error_correlation.empty()) j["disparity_error_correlation"] = c.disparity_error_correlation;
   if (c.disparity_fattening >= 0) j["disparity_fattening"] = c.disparity_fattening;
   if (!c.matched_fraction.empty()) j["matched_fraction"] = c.matched_fraction;
+  if (std::isfinite(c.disparity_locking)) j["disparity_locking"] = c.disparity_locking;
+  if (!c.disparity_bias.empty()) j["disparity_bias"] = c.disparity_bias;
   if (c.views_registered >= 0) j["views_registered"] = c.views_registered;
   if (!c.confusion.empty()) {
     nlohmann::ordered_json conf = nlohmann::ordered_json::array();
@@ -315,6 +317,12 @@ CaseResult case_from_json(const nlohmann::json& j) {
     c.matched_fraction = j.at("matched_fraction").get<std::vector<double>>();
     for (const double v : c.matched_fraction)
       if (!(v >= 0 && v <= 1)) throw std::runtime_error("matched_fraction: outside [0, 1]");
+  }
+  if (j.contains("disparity_locking")) c.disparity_locking = checked(j, "disparity_locking", -1, 1);
+  if (j.contains("disparity_bias")) {
+    c.disparity_bias = j.at("disparity_bias").get<std::vector<double>>();
+    for (const double v : c.disparity_bias)
+      if (!(v >= -3 && v <= 3)) throw std::runtime_error("disparity_bias: outside [-3, 3]");
   }
   if (j.contains("disparity_error_correlation")) {
     // NaN (no pairs) is written as null.

@@ -5,6 +5,7 @@
 #include <array>
 
 #include <chrono>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -99,6 +100,13 @@ struct CaseResult {
   // classification, sgbm: per plant class (berry, branch, leaf), the fraction of the
   // views' pixels seeing it that SGBM matched (after its left-right check); empty otherwise.
   std::vector<double> matched_fraction;
+  // classification, sgbm: pixel locking, the amplitude A (px) of the least-squares fit
+  // e = -A sin(2 pi delta) of the matches within 1 px, delta the true disparity's
+  // fractional part (the noise model's pixel_locking_px); NaN otherwise.
+  double disparity_locking = std::numeric_limits<double>::quiet_NaN();
+  // classification, sgbm: per plant class, the mean signed disparity error (px,
+  // estimated minus true: > 0 nearer) of the matches within 3 px; empty otherwise.
+  std::vector<double> disparity_bias;
   int views_registered = -1;  // classification with poses: colmap: views the SfM placed
   // Not deterministic:
   double scan_seconds = 0, segmentation_seconds = 0, registration_seconds = 0, filter_seconds = 0;

@@ -132,6 +132,11 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
         for (std::size_t k = 0; k < c.matched_fraction.size() && k < plant_classes().size(); ++k)
           m[plant_classes()[k]] = jnum(c.matched_fraction[k]);
         rec.back()["matched_fraction"] = m;
+        rec.back()["disparity_locking"] = jnum(c.disparity_locking);
+        nlohmann::ordered_json bias = nlohmann::ordered_json::object();
+        for (std::size_t k = 0; k < c.disparity_bias.size() && k < plant_classes().size(); ++k)
+          bias[plant_classes()[k]] = jnum(c.disparity_bias[k]);
+        rec.back()["disparity_bias"] = bias;
       }
     }
     j["reconstruction"] = rec;

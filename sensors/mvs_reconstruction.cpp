@@ -15,7 +15,7 @@ const ParamTable<MvsNoiseParams>& mvs_noise_param_table() {
   static const ParamTable<P> table =
       ParamTable<P>()
           .real("disparity_sd", "px", &P::disparity_sd, 0, 20,
-                "sd of the matching's disparity error; depth sd z^2 sd / (f b), b the nearest other view")
+                "sd of the matching's disparity error; depth sd z^2 sd / (f b), b the baseline key or the nearest other view")
           .real("outlier_fraction", "-", &P::outlier_fraction, 0, 1,
                 "fraction of mismatched returns, with a uniform disparity error instead")
           .real("outlier_disparity", "px", &P::outlier_disparity, 0, 1000, "mismatches' disparity error bound")
@@ -28,7 +28,15 @@ const ParamTable<MvsNoiseParams>& mvs_noise_param_table() {
           .real("edge_fattening_fraction", "-", &P::edge_fattening_fraction, 0, 1,
                 "probability that such a return takes the nearer depth (summary.json's reconstruction gives SGBM's "
                 "outlier rate behind edges)")
-          .when("edge_fattening_px > 0", [](const P& p) { return p.edge_fattening_px > 0; });
+          .when("edge_fattening_px > 0", [](const P& p) { return p.edge_fattening_px > 0; })
+          .real("pixel_locking_px", "px", &P::pixel_locking_px, 0, 0.5,
+                "amplitude of the sub-pixel bias -A sin(2 pi delta), delta the true disparity's fractional part "
+                "(summary.json's reconstruction gives SGBM's measured one); 0: off")
+          .real("baseline", "m", &P::baseline, 0, 10,
+                "the matching's baseline b; 0: the distance to the nearest other view of the pass")
+          .integer("window_px", "px", &P::window_px, 0, 10,
+                   "each return takes the mean true disparity of the surfaces within this many px (a block "
+                   "matcher's smoothing; SGBM's 5 px block: 2); 0: off");
   return table;
 }
 
@@ -77,6 +85,34 @@ std::vector<float> nearest_depth_within(const OrganisedCloud& c, int r) {
       for (int dv = std::max(0, v - r); dv <= std::min(h - 1, v + r); ++dv)
         m = std::min(m, row_min[static_cast<std::size_t>(dv) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)]);
       out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)] = m;
+    }
+  }
+  return out;
+}
+
+std::vector<float> window_mean_depth(const OrganisedCloud& c, int r) {
+  if (r <= 0) return {};
+  const int w = c.width, h = c.height;
+  const auto at = [w](int u, int v) { return static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u); };
+  // Sums of 1 / z and of the count along rows, then along columns (separable box).
+  std::vector<double> row_sum(c.size(), 0), row_count(c.size(), 0);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      double s = 0, n = 0;
+      for (int du = std::max(0, u - r); du <= std::min(w - 1, u + r); ++du) {
+        const std::size_t j = at(du, v);
+        const auto part = static_cast<Part>(c.label[j]);
+        if (part != Part::None && part != Part::Background && c.true_depth[j] > 0) s += 1.0 / c.true_depth[j], n += 1;
+      }
+      row_sum[at(u, v)] = s, row_count[at(u, v)] = n;
+    }
+  }
+  std::vector<float> out(c.size());
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      double s = 0, n = 0;
+      for (int dv = std::max(0, v - r); dv <= std::min(h - 1, v + r); ++dv) s += row_sum[at(u, dv)], n += row_count[at(u, dv)];
+      out[at(u, v)] = n > 0 ? static_cast<float>(n / s) : std::numeric_limits<float>::infinity();
     }
   }
   return out;
@@ -140,8 +176,8 @@ FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const F
   std::vector<LabelledReturn> returns;
   for (std::size_t k = 0; k < nv; ++k) {
     const ScanView& v = scan.views[k];
-    double b = std::numeric_limits<double>::infinity();
-    for (std::size_t j = 0; j < nv; ++j) {
+    double b = p.baseline > 0 ? p.baseline : std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < nv && !(p.baseline > 0); ++j) {
       if (j != k) b = std::min(b, (scan.views[j].camera.centre() - v.camera.centre()).norm());
     }
     if (!(b > 1e-6)) throw InputError("mvs reconstruction: views " + v.rig.name + " and another stand at one place");
@@ -154,18 +190,23 @@ FusedCloud mvs_reconstruction(const Scan& scan, const MvsNoiseParams& p, const F
                                           ? correlated_normal_field(c.width, c.height, p.correlation_px, error_seed)
                                           : std::vector<double>{};
     const std::vector<float> nearer = nearest_depth_within(c, p.edge_fattening_px);
+    const std::vector<float> smoothed = window_mean_depth(c, p.window_px);
     for (std::size_t i = 0; i < c.size(); ++i) {
       if (!c.valid[i]) continue;
       const auto part = static_cast<Part>(c.label[i]);
       if (part == Part::Background || part == Part::None) continue;
       const Vec3 x = c.xyz[i].cast<double>();  // camera frame
-      double z = x.z();
+      double z = smoothed.empty() ? x.z() : smoothed[i];
       if (!nearer.empty() && nearer[i] < kBehindEdgeDepthRatio * z &&
           hashed_uniform(derive_seed(seed, k + 3 * nv), i) < p.edge_fattening_fraction)
         z = nearer[i];  // the pixel's own ray, at the foreground's depth
       const double sd = z * z * p.disparity_sd / (f * b);
       // Along the ray: scale the point so its depth moves by the error.
       double z_new = z + sd * (field.empty() ? hashed_normal(error_seed, i) : field[i]);
+      if (p.pixel_locking_px > 0) {  // disparity error -A sin(2 pi delta): depth z^2 / (f b) times its negative
+        const double d = f * b / z;
+        z_new += z * z / (f * b) * p.pixel_locking_px * std::sin(2 * M_PI * (d - std::floor(d)));
+      }
       if (p.outlier_fraction > 0 && hashed_uniform(derive_seed(seed, k + nv), i) < p.outlier_fraction) {
         const double d = f * b / z + p.outlier_disparity * (2 * hashed_uniform(derive_seed(seed, k + 2 * nv), i) - 1);
         if (d < 0.5) continue;  // no match in front of the camera

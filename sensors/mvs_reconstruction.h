@@ -36,6 +36,24 @@ struct MvsNoiseParams {
   // by more than 3 px toward the camera (docs/seed004.md).
   int edge_fattening_px = 0;
   double edge_fattening_fraction = 1;
+  // Pixel locking: sub-pixel disparities drawn toward whole pixels, an error of
+  // -pixel_locking_px sin(2 pi delta), delta the fractional part of the true disparity
+  // f b / z (Shimizu and Okutomi 2001: the parabola fit of integer costs). The same
+  // point at the same depth gets the same error in every view, so unlike the random
+  // error it survives fusion. 0: off. SGBM on a rendered slanted plane: 0.13 px
+  // (tests/algorithms/sgbm_reconstruction_test.cpp; docs/seed004.md for the rows).
+  double pixel_locking_px = 0;
+  // The matching's baseline b in the formulas above, m; 0: the distance to the nearest
+  // other view of the pass. A stereo rig's own baseline (seed004_green_sgbm: 5 cm)
+  // lets the model take SGBM's figures as measured, locking's phase included.
+  double baseline = 0;
+  // Window smoothing: a block matcher's disparity is about the mean over its block, so
+  // each return takes the mean true disparity of the surface pixels within
+  // window_px px (square window; backgrounds left out), before the errors above. Small
+  // curved parts flatten and are drawn toward what lies behind them. 0: off. SGBM's
+  // block is 5 px (window_px 2); its berry and branch disparities averaged 0.2-0.4 px
+  // too far on seed 004's rows (summary.json's disparity_bias).
+  int window_px = 0;
 };
 const ParamTable<MvsNoiseParams>& mvs_noise_param_table();
 
@@ -76,6 +94,11 @@ std::vector<double> correlated_normal_field(int width, int height, double correl
 // kBehindEdgeDepthRatio times its own (a surface at least 3 % nearer).
 std::vector<float> nearest_depth_within(const OrganisedCloud& c, int r);
 inline constexpr double kBehindEdgeDepthRatio = 0.97;
+
+// Per pixel of a view (row-major), the depth (m) of the mean disparity of the pixels
+// within r px (square window) that see a surface other than the background: the
+// harmonic mean of their true depths; infinity where none does; empty when r = 0.
+std::vector<float> window_mean_depth(const OrganisedCloud& c, int r);
 
 // Voxel fusion: one point per voxel seen by at least min_views views, in the order of
 // the voxels' integer coordinates (deterministic). Returns labelled Background or None

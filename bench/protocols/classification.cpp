@@ -254,6 +254,8 @@ struct SgbmErrors {
   LagCorrelation correlation{{1, 2, 4, 8}};
   long behind_edges = 0, fattened = 0;  // matched pixels just behind an edge; of them, off > 3 px toward the camera
   std::array<double, 3> seen{}, matched{};  // per plant class: pixels seeing it; of them, matched
+  double lock_es = 0, lock_ss = 0;          // sums of e s and s^2, s = -sin(2 pi delta), matches within 1 px
+  std::array<double, 3> bias_sum{}, bias_count{};  // per plant class, matches within 3 px
 
   // fb: focal length (px) x baseline (m); block: SGBM's block size (px).
   void add_view(const OrganisedCloud& cloud, const SgbmCloud& c, double fb, int block) {
@@ -268,7 +270,15 @@ struct SgbmErrors {
       if (!(truth > 0)) continue;
       abs_error.push_back(std::abs(z - truth) * fb / (z * z));
       const double e = fb / z - fb / truth;  // estimated minus true disparity
-      if (std::abs(e) <= 3) signed_error[pixel] = static_cast<float>(e);
+      if (std::abs(e) <= 3) {
+        signed_error[pixel] = static_cast<float>(e);
+        const int cls = plant_class(static_cast<Part>(cloud.label[pixel]));
+        if (cls >= 0) bias_sum[static_cast<std::size_t>(cls)] += e, bias_count[static_cast<std::size_t>(cls)] += 1;
+      }
+      if (std::abs(e) <= 1) {
+        const double d = fb / truth, s = -std::sin(2 * M_PI * (d - std::floor(d)));
+        lock_es += e * s, lock_ss += s * s;
+      }
       if (!nearer.empty() && nearer[pixel] < kBehindEdgeDepthRatio * truth) ++behind_edges, fattened += e > 3;
     }
     correlation.add(signed_error, cloud.width, cloud.height);
@@ -288,6 +298,8 @@ struct SgbmErrors {
     r.disparity_error_correlation = correlation.correlations();
     r.disparity_fattening = behind_edges > 0 ? static_cast<double>(fattened) / static_cast<double>(behind_edges) : 0;
     for (std::size_t k = 0; k < 3; ++k) r.matched_fraction.push_back(seen[k] > 0 ? matched[k] / seen[k] : 0);
+    if (lock_ss > 0) r.disparity_locking = lock_es / lock_ss;
+    for (std::size_t k = 0; k < 3; ++k) r.disparity_bias.push_back(bias_count[k] > 0 ? bias_sum[k] / bias_count[k] : 0);
   }
 };
 

@@ -96,19 +96,32 @@ Foliage leaf_wall() {
   return f;
 }
 
-TEST(SgbmReconstruction, RenderedTexturedPlaneDepthsWithinTheStereoFormulasError) {
-  const double z = 0.8;
-  const RayScene scene(Bunch{}, std::nullopt, leaf_wall());
+// The stereo rig's rendered pair of a scene holding only `wall`, seen from (0, -z, 0)
+// toward the origin, with seed 004's leaf texture; the left frame keeps the exact depths.
+struct RenderedPair {
+  OrganisedCloud frame;
+  StereoPair pair;
+};
+RenderedPair rendered_pair(const Foliage& wall, double z) {
+  const RayScene scene(Bunch{}, std::nullopt, wall);
   StereoRgbParams rp;  // seed 001's rig: 800 x 600, 1000 px focal length, 5 cm baseline
-  rp.leaf_texture = 0.4, rp.texture_cells = 4;  // seed 004's textured leaves
+  rp.leaf_texture = 0.4, rp.texture_cells = 4;
   rp.background = StereoRgbParams::Background::Plain;
   const StereoRgb rig(rp);
-  const OrganisedCloud frame = rig.capture(scene, look_at(Vec3(0, -z, 0), Vec3::Zero()), 3);
-  StereoPair pair;
+  RenderedPair r;
+  r.frame = rig.capture(scene, look_at(Vec3(0, -z, 0), Vec3::Zero()), 3);
   const Intrinsics K = rig.intrinsics();
-  pair.fx = K.fx, pair.fy = K.fy, pair.cx = K.opencv_cx(), pair.cy = K.opencv_cy(), pair.baseline = frame.baseline;
-  pair.left = {frame.width, frame.height, frame.left_image};
-  pair.right = {frame.width, frame.height, frame.right_image};
+  r.pair.fx = K.fx, r.pair.fy = K.fy, r.pair.cx = K.opencv_cx(), r.pair.cy = K.opencv_cy();
+  r.pair.baseline = r.frame.baseline;
+  r.pair.left = {r.frame.width, r.frame.height, r.frame.left_image};
+  r.pair.right = {r.frame.width, r.frame.height, r.frame.right_image};
+  return r;
+}
+
+TEST(SgbmReconstruction, RenderedTexturedPlaneDepthsWithinTheStereoFormulasError) {
+  const double z = 0.8;
+  const RenderedPair r = rendered_pair(leaf_wall(), z);
+  const StereoPair& pair = r.pair;
   SgbmParams p;  // the protocol's defaults
   const SgbmCloud c = sgbm_reconstruction(pair, p);
   std::vector<double> err;
@@ -119,8 +132,8 @@ TEST(SgbmReconstruction, RenderedTexturedPlaneDepthsWithinTheStereoFormulasError
   const double spread = 0.5 * (err[err.size() * 84 / 100] - err[err.size() * 16 / 100]) / unit;
   std::size_t far = 0;  // off by more than 1 px
   for (double e : err) far += std::abs(e) > unit;
-  const double searched = K.fx * rp.baseline / p.min_depth;  // the unmatched left strip is at most this wide
-  const double matchable = (frame.width - searched) * frame.height;
+  const double searched = pair.fx * pair.baseline / p.min_depth;  // the unmatched left strip is at most this wide
+  const double matchable = (r.frame.width - searched) * r.frame.height;
   std::printf("[sgbm] rendered plane: %zu points (%.1f %% of the matchable area), median %.3f px, sd %.3f px, %.2f %% beyond 1 px\n",
               err.size(), 100.0 * err.size() / matchable, median, spread, 100.0 * far / err.size());
   EXPECT_GT(static_cast<double>(err.size()), 0.8 * matchable);
@@ -129,6 +142,38 @@ TEST(SgbmReconstruction, RenderedTexturedPlaneDepthsWithinTheStereoFormulasError
   EXPECT_LT(static_cast<double>(far), 0.01 * err.size());
   // Colours are the left image's.
   EXPECT_EQ(c.colours[0][1], pair.left.data[3 * c.pixel[0] + 1]);
+}
+
+// Pixel locking, the noise model's pixel_locking_px: on the same wall turned 25 deg
+// (disparities 16 px apart across the image), sub-pixel disparities are drawn toward
+// whole pixels. The error's mean is negative where the true disparity's fractional
+// part delta is 0.15-0.35 and positive at 0.65-0.85; its least-squares amplitude
+// A in e = -A sin(2 pi delta) (matches within 1 px) measured 0.13 px.
+TEST(SgbmReconstruction, SubpixelDisparitiesOfARenderedSlantedPlaneLockTowardWholePixels) {
+  Foliage wall = leaf_wall();
+  const Eigen::AngleAxisd turn(25 * M_PI / 180, Vec3::UnitZ());
+  for (Vec3& v : wall.vertices) v = turn * v;
+  const RenderedPair r = rendered_pair(wall, 0.8);
+  const SgbmCloud c = sgbm_reconstruction(r.pair, SgbmParams{});
+  const double fb = r.pair.fx * r.pair.baseline;
+  double es = 0, ss = 0, low = 0, n_low = 0, high = 0, n_high = 0;
+  for (Eigen::Index i = 0; i < c.points.rows(); ++i) {
+    const double truth = r.frame.truth(c.pixel[static_cast<std::size_t>(i)]);
+    ASSERT_GT(truth, 0);
+    const double d = fb / truth, e = fb / c.points(i, 2) - d, delta = d - std::floor(d);
+    if (std::abs(e) > 1) continue;
+    const double s = -std::sin(2 * M_PI * delta);
+    es += e * s, ss += s * s;
+    if (delta > 0.15 && delta < 0.35) low += e, n_low += 1;
+    if (delta > 0.65 && delta < 0.85) high += e, n_high += 1;
+  }
+  const double amplitude = es / ss;
+  std::printf("[sgbm] slanted plane: locking amplitude %.3f px; mean error %.3f px at delta 0.15-0.35, %.3f px at 0.65-0.85\n",
+              amplitude, low / n_low, high / n_high);
+  EXPECT_GT(amplitude, 0.05);
+  EXPECT_LT(amplitude, 0.25);
+  EXPECT_LT(low / n_low, -0.03);
+  EXPECT_GT(high / n_high, 0.03);
 }
 
 TEST(SgbmReconstruction, RefusesBadPairs) {

@@ -769,11 +769,17 @@ estimators:
   for (const char* cls : {"berry", "branch", "leaf"}) {
     EXPECT_GT(rec["matched_fraction"][cls].get<double>(), 0.05) << cls;
     EXPECT_LE(rec["matched_fraction"][cls].get<double>(), 1.0) << cls;
+    EXPECT_LT(std::abs(rec["disparity_bias"][cls].get<double>()), 1.0) << cls;
   }
+  // Sub-pixel disparities drawn toward whole pixels, as on the rendered slanted plane.
+  EXPECT_GT(rec["disparity_locking"].get<double>(), 0.03);
+  EXPECT_LT(rec["disparity_locking"].get<double>(), 0.3);
   // The case file keeps them and reads back.
   const nlohmann::json c = nlohmann::json::parse(slurp(a / "cases" / "c0000_b0000.json"));
   EXPECT_EQ(c["disparity_error_correlation"].size(), 4u);
   EXPECT_EQ(c["matched_fraction"].size(), 3u);
+  EXPECT_EQ(c["disparity_bias"].size(), 3u);
+  EXPECT_DOUBLE_EQ(c["disparity_locking"].get<double>(), rec["disparity_locking"].get<double>());
 }
 
 // Seed 004 through the external protocol: a classification request (coloured PLY,

@@ -196,5 +196,91 @@ TEST(MvsReconstruction, EdgeFatteningMovesPixelsBehindAnEdgeToTheForeground) {
   EXPECT_TRUE(nearest_depth_within(scan.views[0].cloud, 0).empty());
 }
 
+// Window smoothing: each return takes the mean disparity of the surfaces within r px.
+// On the step (berries at 1 m in columns 0-9, a leaf at 2 m beyond), r = 2: column 9
+// sees 3 berry and 2 leaf columns, mean inverse depth (3 + 2 / 2) / 5 = 0.8 m^-1, so
+// 1.25 m; column 10, (2 + 3 / 2) / 5 = 0.7 m^-1; column 12 only leaf. Labels stay.
+TEST(MvsReconstruction, WindowSmoothingAveragesTheDisparitiesOfTheBlock) {
+  const Scan scan = step_scan();
+  const std::vector<float> m = window_mean_depth(scan.views[0].cloud, 2);
+  for (const int row : {0, 10, 19}) {
+    EXPECT_FLOAT_EQ(m[static_cast<std::size_t>(row * 30 + 7)], 1.0f);
+    EXPECT_FLOAT_EQ(m[static_cast<std::size_t>(row * 30 + 9)], 1.25f);
+    EXPECT_FLOAT_EQ(m[static_cast<std::size_t>(row * 30 + 10)], static_cast<float>(1 / 0.7));
+    EXPECT_FLOAT_EQ(m[static_cast<std::size_t>(row * 30 + 12)], 2.0f);
+  }
+  EXPECT_TRUE(window_mean_depth(scan.views[0].cloud, 0).empty());
+  // Through the reconstruction: column 9's berries at 1.25 m, column 10's leaf at 1.43 m.
+  FusionParams fusion;
+  fusion.voxel = 0.0005, fusion.min_views = 1;
+  MvsNoiseParams p;
+  p.disparity_sd = 0, p.window_px = 2;
+  const FusedCloud c = mvs_reconstruction(scan, p, fusion, 3);
+  int berries_at = 0, leaves_at = 0;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    berries_at += c.labels[i] == Part::Berry && std::abs(c.points[i].z() - 1.25) < 1e-5;
+    leaves_at += c.labels[i] == Part::Leaf && std::abs(c.points[i].z() - 1 / 0.7) < 1e-5;
+  }
+  EXPECT_EQ(berries_at, 20 * 2);  // 20 rows, 2 views
+  EXPECT_EQ(leaves_at, 20 * 2);
+}
+
+// Pixel locking: on a slanted surface (depth 1 m to 1.3 m across 60 columns, views
+// 10 m apart, so the `baseline` key of 5 cm sets b) each return's disparity is off by
+// exactly -A sin(2 pi delta), delta the true disparity's fractional part.
+TEST(MvsReconstruction, PixelLockingDrawsDisparitiesTowardWholePixels) {
+  const int w = 60, h = 4;
+  const double f = 1000;
+  Scan scan;
+  for (int k = 0; k < 2; ++k) {
+    ScanView v;
+    v.rig.name = "view_" + std::to_string(k);
+    v.camera.K = Intrinsics{w, h, f, f, w / 2.0, h / 2.0};
+    v.camera.pose = Eigen::Isometry3d::Identity();
+    v.camera.pose.translation() = Vec3(10.0 * k, 0, 0);
+    v.rig.pose = v.camera.pose;
+    v.cloud.resize(w, h);
+    for (int r = 0; r < h; ++r) {
+      for (int u = 0; u < w; ++u) {
+        const std::size_t i = static_cast<std::size_t>(r * w + u);
+        const double z = 1 + 0.005 * u;
+        v.cloud.valid[i] = 1;
+        v.cloud.label[i] = static_cast<std::uint8_t>(Part::Leaf);
+        v.cloud.true_depth[i] = static_cast<float>(z);
+        v.cloud.xyz[i] = Eigen::Vector3f(static_cast<float>((u + 0.5 - w / 2.0) / f * z),
+                                         static_cast<float>((r + 0.5 - h / 2.0) / f * z), static_cast<float>(z));
+        v.cloud.rgb[i] = {0, 0, 0};
+      }
+    }
+    scan.views.push_back(std::move(v));
+  }
+  FusionParams fusion;
+  fusion.voxel = 0.0005, fusion.min_views = 1;
+  MvsNoiseParams p;
+  p.disparity_sd = 0, p.baseline = 0.05, p.pixel_locking_px = 0.2;
+  const double fb = f * p.baseline;
+  const FusedCloud c = mvs_reconstruction(scan, p, fusion, 3);
+  ASSERT_EQ(c.points.size(), static_cast<std::size_t>(2 * w * h));
+  double worst = 0, largest = 0;
+  for (const Vec3& x : c.points) {
+    const Vec3 local = x - Vec3(x.x() > 5 ? 10.0 : 0.0, 0, 0);  // the view's own frame
+    const int u = static_cast<int>(std::lround(local.x() / local.z() * f + w / 2.0 - 0.5));
+    ASSERT_GE(u, 0);
+    ASSERT_LT(u, w);
+    const double d = fb / (1 + 0.005 * u), e = fb / local.z() - d;
+    const double expected = -p.pixel_locking_px * std::sin(2 * M_PI * (d - std::floor(d)));
+    worst = std::max(worst, std::abs(e - expected));
+    largest = std::max(largest, std::abs(e));
+  }
+  EXPECT_LT(worst, 0.002);  // px: the depth step is linearised
+  EXPECT_GT(largest, 0.19);
+  p.pixel_locking_px = 0;  // off: exact
+  for (const Vec3& x : mvs_reconstruction(scan, p, fusion, 3).points) {
+    const Vec3 local = x - Vec3(x.x() > 5 ? 10.0 : 0.0, 0, 0);
+    const int u = static_cast<int>(std::lround(local.x() / local.z() * f + w / 2.0 - 0.5));
+    EXPECT_NEAR(local.z(), 1 + 0.005 * u, 1e-6);
+  }
+}
+
 }  // namespace
 }  // namespace grapebench
