@@ -24,7 +24,10 @@ Intrinsics intrinsics_from_fov(int width, int height, double hfov_deg, double vf
 }
 
 bool Camera::ball_pixels(const Vec3& c, double r, int& u0, int& v0, int& u1, int& v1) const {
-  const Vec3 p = to_camera(c);
+  return ball_pixels_camera_frame(to_camera(c), r, u0, v0, u1, v1);
+}
+
+bool Camera::ball_pixels_camera_frame(const Vec3& p, double r, int& u0, int& v0, int& u1, int& v1) const {
   if (p.z() <= r) {  // the camera is inside or behind the ball's front: take all pixels
     if (p.z() + r <= 0) return false;
     u0 = v0 = 0;

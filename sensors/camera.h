@@ -41,6 +41,8 @@ struct Camera {
   // Pixel rectangle [u0, u1) x [v0, v1) that contains the image of a ball; false when
   // the ball is behind the camera or off the image.
   bool ball_pixels(const Vec3& centre, double radius, int& u0, int& v0, int& u1, int& v1) const;
+  // The same for a centre already in the camera frame (m): for many balls of one view.
+  bool ball_pixels_camera_frame(const Vec3& centre, double radius, int& u0, int& v0, int& u1, int& v1) const;
 };
 
 // Camera at `eye` looking at `target`; `up` fixes the roll (image up = -y).

@@ -50,9 +50,13 @@ class KinectV2 : public Sensor {
   const KinectV2Params& params() const { return p_; }
 
  private:
-  // The pixels whose footprints go through Embree: the bunch's image rectangle grown
-  // by the reach of the lateral jitter.
+  // The pixels sampled n x n: the bunch's image rectangle grown by the reach of the
+  // lateral jitter. Only those of its pixels that scene_pixel_mask marks go through
+  // Embree; without a background the others are not sampled at all (they cannot
+  // return), with one their samples meet the plane alone.
   BunchPixels sampled_rect(const RayScene& scene, const Camera& cam) const;
+  // The reach of the lateral jitter, px: 6 sd, plus the footprint's own pixel.
+  int jitter_margin() const;
   // Row v: lateral jitter of pixels [ua, ub) (jitter: 2 per pixel, px) and the n x n
   // footprint sample points of pixels [sub_a, sub_b) (uv: 2 per sample, px).
   void row_samples(int v, int ua, int ub, int sub_a, int sub_b, int width, std::uint64_t seed,

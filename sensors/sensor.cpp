@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <cstring>
 
 namespace grapebench {
 
@@ -11,6 +12,47 @@ BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam) {
   BunchPixels b;
   b.visible = scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), b.u0, b.v0, b.u1, b.v1);
   return b;
+}
+
+std::vector<std::uint8_t> scene_pixel_mask(const RayScene& scene, const Camera& cam, const BunchPixels& bp,
+                                           int margin) {
+  const int w = bp.u1 - bp.u0, h = bp.v1 - bp.v0;
+  std::vector<std::uint8_t> mask(bp.visible && w > 0 && h > 0 ? static_cast<std::size_t>(w) * h : 0, 0);
+  if (mask.empty()) return mask;
+  const Eigen::Isometry3d to_cam = cam.pose.inverse();
+  const auto mark = [&](const Vec3& centre, double radius) {
+    int u0, v0, u1, v1;
+    if (!cam.ball_pixels_camera_frame(to_cam * centre, radius, u0, v0, u1, v1)) return;
+    u0 = std::max(u0 - margin, bp.u0) - bp.u0;
+    u1 = std::min(u1 + margin, bp.u1) - bp.u0;
+    v0 = std::max(v0 - margin, bp.v0) - bp.v0;
+    v1 = std::min(v1 + margin, bp.v1) - bp.v0;
+    for (int v = v0; v < v1 && u0 < u1; ++v) std::memset(&mask[static_cast<std::size_t>(v) * w + u0], 1, u1 - u0);
+  };
+  const auto mark_cylinder = [&](const Stem& s) {
+    // Pieces no longer than the diameter: each ball's radius is at most sqrt(2) r.
+    const Vec3 axis = s.end - s.start;
+    const double len = axis.norm();
+    const int pieces = static_cast<int>(std::clamp(std::ceil(len / (2 * std::max(s.radius, 1e-9))), 1.0, 65536.0));
+    const double half = 0.5 * len / pieces;
+    for (int i = 0; i < pieces; ++i) {
+      mark(s.start + axis * ((i + 0.5) / pieces), std::sqrt(half * half + s.radius * s.radius) * (1 + 1e-9));
+    }
+  };
+  for (const Berry& b : scene.bunch().berries) mark(b.centre, b.radius * (1 + 1e-6));
+  for (const Stem& s : scene.bunch().stems) mark_cylinder(s);
+  const Foliage& f = scene.foliage();
+  for (const Stem& s : f.canes) mark_cylinder(s);
+  for (const auto& t : f.triangles) {
+    const Vec3& a = f.vertices[static_cast<std::size_t>(t[0])];
+    const Vec3& b = f.vertices[static_cast<std::size_t>(t[1])];
+    const Vec3& c = f.vertices[static_cast<std::size_t>(t[2])];
+    const Vec3 centroid = (a + b + c) / 3;
+    const double r = std::sqrt(std::max({(a - centroid).squaredNorm(), (b - centroid).squaredNorm(),
+                                         (c - centroid).squaredNorm()}));
+    mark(centroid, r * (1 + 1e-9) + 1e-12);
+  }
+  return mask;
 }
 
 OrganisedCloud frame_for(const RayScene& scene, const Camera& cam, const BunchPixels& bp) {

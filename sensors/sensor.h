@@ -54,6 +54,13 @@ struct BunchPixels {
   int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
 };
 BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam);
+// Which pixels of the rectangle bp can see anything Embree holds: one byte per pixel,
+// (bp.v1 - bp.v0) x (bp.u1 - bp.u0), row-major, 1 where a footprint widened by
+// `margin` px may meet a berry, stem, leaf or cane. Conservative: every primitive is
+// bounded by balls (a stem or cane by one per length of its diameter, a leaf triangle
+// by one about its centroid) and the image rectangle of each ball is marked.
+std::vector<std::uint8_t> scene_pixel_mask(const RayScene& scene, const Camera& cam, const BunchPixels& bp,
+                                           int margin);
 // A frame of `cam`'s size whose valid and label maps can change only in the rows that
 // can return light: all of them with a background plane, else those of `bp`.
 OrganisedCloud frame_for(const RayScene& scene, const Camera& cam, const BunchPixels& bp);
