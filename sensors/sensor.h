@@ -57,8 +57,9 @@ BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam);
 // Which pixels of the rectangle bp can see anything Embree holds: one byte per pixel,
 // (bp.v1 - bp.v0) x (bp.u1 - bp.u0), row-major, 1 where a footprint widened by
 // `margin` px may meet a berry, stem, leaf or cane. Conservative: every primitive is
-// bounded by balls (a stem or cane by one per length of its diameter, a leaf triangle
-// by one about its centroid) and the image rectangle of each ball is marked.
+// bounded by balls (a stem or cane by one per piece of its axis no longer than its
+// diameter or the pixel pitch at its nearest depth, a leaf triangle by one about its
+// centroid) and the image rectangle of each ball is marked.
 std::vector<std::uint8_t> scene_pixel_mask(const RayScene& scene, const Camera& cam, const BunchPixels& bp,
                                            int margin);
 // A frame of `cam`'s size whose valid and label maps can change only in the rows that
