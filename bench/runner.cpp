@@ -24,6 +24,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <set>
 #include <sstream>
 
 namespace grapebench {
@@ -115,6 +116,61 @@ class CaseClaim {
   bool held_ = false;
 };
 
+// The count of a finished shard's shard.json in `dir`, or 0.
+int shard_count_in(const fs::path& dir) {
+  std::ifstream in(dir / "shard.json", std::ios::binary);
+  if (!in) return 0;
+  try {
+    std::stringstream text;
+    text << in.rdbuf();
+    const auto j = parse_json_bounded(text.str());
+    if (j.value("format", "") != "grapebench-shard-1") return 0;
+    return std::max(0, j.at("count").get<int>());
+  } catch (const std::exception&) {
+    return 0;  // damaged or foreign: as if absent
+  }
+}
+
+// For merge's error: the shards (i/N) the missing cases belong to, N as the finished
+// shards' shard.json say, and the --from folders holding no finished shard, so a
+// cancelled or failed task is named and can be run again alone.
+std::string missing_shards(std::size_t n_cases, const std::vector<std::size_t>& missing,
+                           const std::vector<fs::path>& dirs) {
+  std::set<int> counts;
+  std::string unfinished;
+  for (const auto& d : dirs) {
+    if (const int n = shard_count_in(d); n > 0) {
+      counts.insert(n);
+      continue;
+    }
+    std::error_code ec;
+    int files = 0;
+    for (const auto& e : fs::directory_iterator(d / "cases", ec)) files += e.path().extension() == ".json";
+    unfinished += (unfinished.empty() ? "" : ", ") + d.string() +
+                  (!fs::exists(d) ? " (absent)"
+                   : files == 0   ? " (no cases)"
+                                  : " (" + std::to_string(files) + " case files, unfinished)");
+  }
+  std::string m;
+  if (counts.size() == 1) {
+    const int n = *counts.begin();
+    std::set<int> shards;
+    for (const std::size_t k : missing) shards.insert(static_cast<int>(k % static_cast<std::size_t>(n)));
+    m = "\n  missing shards:";
+    for (const int i : shards) m += " " + std::to_string(i) + "/" + std::to_string(n);
+  } else {
+    // No shard count to go by (no shard finished, or shards of different counts):
+    // the cases' indices; shard i/N ran those with index mod N = i.
+    m = counts.empty() ? "\n  no --from folder holds a finished shard (shard.json); missing case indices (of 0-"
+                       : "\n  the --from folders hold shards of different counts; missing case indices (of 0-";
+    m += std::to_string(n_cases - 1) + "):";
+    for (std::size_t k = 0; k < missing.size() && k < 20; ++k) m += " " + std::to_string(missing[k]);
+    if (missing.size() > 20) m += " ...";
+  }
+  if (!unfinished.empty()) m += "\n  --from folders without a finished shard: " + unfinished;
+  return m;
+}
+
 }  // namespace
 
 RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
@@ -190,6 +246,14 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   });
   outcome.computed = computed;
   outcome.reused += static_cast<int>(pending.size()) - computed;
+  // This shard is finished: `merge` reads the shard count here to name the shards
+  // whose cases are missing (a cancelled or failed task leaves no shard.json).
+  if (o.shard_count > 1) {
+    const nlohmann::ordered_json marker = {{"format", "grapebench-shard-1"}, {"scene", set.base.name},
+                                           {"index", o.shard_index}, {"count", o.shard_count},
+                                           {"cases", outcome.computed + outcome.reused}};
+    write_file_atomic(o.out / "shard.json", marker.dump(1) + "\n");
+  }
   // Other shards' cases may already be here (a shared folder); the tables need all.
   std::vector<CaseResult> cases;
   for (std::size_t i = 0; i < refs.size(); ++i) {
@@ -211,8 +275,9 @@ RunOutcome merge_shards(const SceneSet& set, const std::vector<fs::path>& shard_
   outcome.cases = static_cast<int>(refs.size());
   std::vector<CaseResult> cases;
   std::string missing;
-  int n_missing = 0;
-  for (const auto& ref : refs) {
+  std::vector<std::size_t> missing_indices;
+  for (std::size_t k = 0; k < refs.size(); ++k) {
+    const CaseRef& ref = refs[k];
     std::optional<CaseResult> found = read_case(set, ref, ref.file, o.reuse_other_builds).result;
     for (const auto& d : shard_dirs) {
       if (found) break;
@@ -223,17 +288,18 @@ RunOutcome merge_shards(const SceneSet& set, const std::vector<fs::path>& shard_
       if (found) write_file_atomic(ref.file, case_to_json(*found).dump(1) + "\n");
     }
     if (!found) {
-      if (++n_missing <= 5) missing += " " + ref.file.filename().string();
+      missing_indices.push_back(k);
+      if (missing_indices.size() <= 5) missing += " " + ref.file.filename().string();
       continue;
     }
     ++outcome.reused;
     cases.push_back(*found);
   }
-  if (n_missing > 0) {
+  if (const std::size_t n_missing = missing_indices.size(); n_missing > 0) {
     throw InputError("merge: " + std::to_string(n_missing) + " of " + std::to_string(refs.size()) +
                      " cases are in none of the shard folders (or were run with other parameters, or by another build:"
                      " --reuse-other-builds takes those):" + missing +
-                     (n_missing > 5 ? " ..." : ""));
+                     (n_missing > 5 ? " ..." : "") + missing_shards(refs.size(), missing_indices, shard_dirs));
   }
   outcome.leaderboard = write_outputs(set, cases, o.out, o.threads);
   outcome.complete = true;

@@ -176,6 +176,30 @@ TEST(Cli, ACaseFileWithForeignIndicesIsRecomputedNotTrusted) {
   }
 }
 
+// Issue 43: a shard whose task was cancelled or failed (its folder absent) is named
+// by the merge, with the shard count the finished shard wrote, so it can be rerun alone.
+TEST(Cli, MergeNamesTheShardWhoseFolderIsAbsent) {
+  const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
+  const std::string dir = "/tmp/grapebench_cli_missing_shard";
+  std::filesystem::remove_all(dir);
+  const std::string from = " --from " + dir + "/0/two_bunches_hull --from " + dir + "/1/two_bunches_hull";
+  ASSERT_EQ(run_cli("run " + scene + " --shard 0/2 --out " + dir + "/0 -q").status, 0);
+  CommandResult r = run_cli("merge " + scene + from + " --out " + dir + "/merged");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("1 of 2 cases are in none of the shard folders"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("missing shards: 1/2\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("without a finished shard: " + dir + "/1/two_bunches_hull (absent)"), std::string::npos) << r.out;
+  // No finished shard to read the count from: the missing cases' indices.
+  r = run_cli("merge " + scene + " --from " + dir + "/1/two_bunches_hull --out " + dir + "/merged_none");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("missing case indices (of 0-1): 0 1"), std::string::npos) << r.out;
+  // Shard 1 alone, run again, completes the merge.
+  ASSERT_EQ(run_cli("run " + scene + " --shard 1/2 --out " + dir + "/1 -q").status, 0);
+  r = run_cli("merge " + scene + from + " --out " + dir + "/merged");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("merged 2 cases"), std::string::npos) << r.out;
+}
+
 // Issue 23's reproducer: a hostile external program writes outside its folder, edits
 // the run's case files and results (it knows --out), leaves a daemon that appends to
 // results.csv after the run, and floods stderr. Under bubblewrap none of it lands and
