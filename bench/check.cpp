@@ -4,8 +4,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <sstream>
+#include <vector>
 
 namespace grapebench {
 
@@ -20,7 +22,10 @@ std::map<Key, nlohmann::json> rows_of(const nlohmann::json& summary, const std::
   if (!summary.is_object()) bad("not a summary (a JSON object with `scene` and `scores`)");
   if (!summary.contains("scene") || !summary["scene"].is_string()) bad("'scene' must be the scene's name");
   if (!summary.contains("scores") || !summary["scores"].is_array()) bad("'scores' must be a list of rows");
-  if (summary["scores"].empty()) bad("'scores' is empty: nothing to compare");
+  const bool other_rows = (summary.contains("classification") && summary["classification"].is_array() &&
+                           !summary["classification"].empty()) ||
+                          (summary.contains("stereo") && summary["stereo"].is_object());
+  if (summary["scores"].empty() && !other_rows) bad("'scores' is empty: nothing to compare");
   std::map<Key, nlohmann::json> m;
   int i = 0;
   for (const auto& r : summary["scores"]) {
@@ -33,6 +38,40 @@ std::map<Key, nlohmann::json> rows_of(const nlohmann::json& summary, const std::
       if (r.contains(k) && !r[k].is_number() && !r[k].is_null()) bad(at + "." + k + "' must be a number or null");
     const Key key{r["condition"].get<std::string>(), r["estimator"].get<std::string>(), r["quantity"].get<std::string>()};
     if (!m.emplace(key, r).second) bad(at + "' repeats the row of " + std::get<1>(key) + " " + std::get<2>(key));
+  }
+  return m;
+}
+
+// The rows of an optional list `path` (e.g. "classification", "stereo.depth"), keyed
+// by the string or integer fields `keys`, each row once; the numeric fields `metrics`
+// numbers or null. Absent section: no rows.
+std::map<std::string, nlohmann::json> table_of(const nlohmann::json& summary, const std::string& path,
+                                               const std::vector<const char*>& keys,
+                                               const std::vector<const char*>& metrics, const std::string& what) {
+  const auto bad = [&](const std::string& why) { throw InputError(what + ": " + why); };
+  const nlohmann::json* list = &summary;
+  std::string at;
+  for (std::size_t b = 0, e; b <= path.size(); b = e + 1) {
+    e = path.find('.', b);
+    if (e == std::string::npos) e = path.size();
+    const std::string part = path.substr(b, e - b);
+    if (!list->is_object() || !list->contains(part)) return {};
+    list = &(*list)[part];
+  }
+  if (!list->is_array()) bad("'" + path + "' must be a list of rows");
+  std::map<std::string, nlohmann::json> m;
+  int i = 0;
+  for (const auto& r : *list) {
+    at = "'" + path + "[" + std::to_string(i++) + "]";
+    if (!r.is_object()) bad(at + "' must be an object");
+    std::string key;
+    for (const char* k : keys) {
+      if (!r.contains(k) || !(r[k].is_string() || r[k].is_number_integer())) bad(at + "." + k + "' must be a string or an integer");
+      key += (key.empty() ? "" : " ") + (r[k].is_string() ? r[k].get<std::string>() : std::to_string(r[k].get<long long>()));
+    }
+    for (const char* k : metrics)
+      if (r.contains(k) && !r[k].is_number() && !r[k].is_null()) bad(at + "." + k + "' must be a number or null");
+    if (!m.emplace(key, r).second) bad(at + "' repeats the row of " + key);
   }
   return m;
 }
@@ -60,16 +99,22 @@ CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::js
   if (baseline.contains("tolerances")) {
     const auto& j = baseline["tolerances"];
     if (!j.is_object()) throw InputError(baseline_name + ": 'tolerances' must be an object of numbers");
+    const std::map<std::string, double*> known = {
+        {"rmse_rel", &t.rmse_rel},           {"rmse_abs", &t.rmse_abs},
+        {"mape_pct_abs", &t.mape_pct_abs},   {"r2_abs", &t.r2_abs},
+        {"bias_rmse_frac", &t.bias_rmse_frac}, {"success_rate_abs", &t.success_rate_abs},
+        {"classification_abs", &t.classification_abs}, {"stereo_rate_abs", &t.stereo_rate_abs},
+        {"cut_error_mm_abs", &t.cut_error_mm_abs}};
     for (const auto& [k, v] : j.items()) {
+      if (!known.count(k)) {
+        std::string names;
+        for (const auto& n : known) names += (names.empty() ? "" : ", ") + n.first;
+        throw InputError(baseline_name + ": 'tolerances." + k + "' is not a tolerance (one of: " + names + ")");
+      }
       if (!v.is_number() || !(v.get<double>() >= 0) || !std::isfinite(v.get<double>()))
         throw InputError(baseline_name + ": 'tolerances." + k + "' must be a finite number >= 0");
+      *known.at(k) = v.get<double>();
     }
-    t.rmse_rel = j.value("rmse_rel", t.rmse_rel);
-    t.rmse_abs = j.value("rmse_abs", t.rmse_abs);
-    t.mape_pct_abs = j.value("mape_pct_abs", t.mape_pct_abs);
-    t.r2_abs = j.value("r2_abs", t.r2_abs);
-    t.bias_rmse_frac = j.value("bias_rmse_frac", t.bias_rmse_frac);
-    t.success_rate_abs = j.value("success_rate_abs", t.success_rate_abs);
   }
   CheckResult res;
   std::ostringstream d;
@@ -114,6 +159,55 @@ CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::js
   for (const auto& [key, r] : now) {
     if (!base.count(key)) d << "NEW      " << name(key) << ": not in the baseline (not checked)\n";
   }
+  // The other sections: each metric may worsen by its tolerance (sign +1: higher is
+  // better), a missing row or value is a regression.
+  struct Metric {
+    const char* field;
+    int sign;
+    double allowed;
+    const char* unit;
+  };
+  const auto compare_table = [&](const std::string& path, const std::vector<const char*>& keys,
+                                 const std::function<std::vector<Metric>(const nlohmann::json&)>& metrics_of) {
+    std::vector<const char*> fields;
+    for (const Metric& m : metrics_of(nlohmann::json::object())) fields.push_back(m.field);
+    const auto b_rows = table_of(baseline, path, keys, fields, baseline_name);
+    const auto n_rows = table_of(run, path, keys, fields, run_name);
+    for (const auto& [key, b] : b_rows) {
+      const auto it = n_rows.find(key);
+      if (it == n_rows.end()) {
+        res.pass = false;
+        d << "MISSING  " << path << " " << key << ": in the baseline, not in this run\n";
+        continue;
+      }
+      ++res.rows_compared;
+      for (const Metric& m : metrics_of(b)) {
+        const double was = value(b, m.field), is = value(it->second, m.field);
+        if (!std::isfinite(was)) continue;
+        const double limit = was - m.sign * m.allowed;
+        if (!std::isfinite(is) || m.sign * (is - limit) < -1e-12) {
+          res.pass = false;
+          std::snprintf(line, sizeof line, "WORSE    %s %s: %s %.6g -> %.6g %s (allowed %.6g)\n", path.c_str(),
+                        key.c_str(), m.field, was, is, m.unit, limit);
+          d << line;
+        }
+      }
+    }
+    for (const auto& [key, r] : n_rows)
+      if (!b_rows.count(key)) d << "NEW      " << path << " " << key << ": not in the baseline (not checked)\n";
+  };
+  compare_table("classification", {"condition", "estimator", "quantity"}, [&](const nlohmann::json& b) {
+    const bool lower_better = b.value("quantity", "") == "berry_fpr";
+    return std::vector<Metric>{{"mean", lower_better ? -1 : 1, t.classification_abs, ""}};
+  });
+  compare_table("stereo.cut_success", {"condition", "estimator"}, [&](const nlohmann::json&) {
+    return std::vector<Metric>{{"rate", 1, t.stereo_rate_abs, ""}};
+  });
+  compare_table("stereo.depth", {"estimator", "depth_mm"}, [&](const nlohmann::json&) {
+    return std::vector<Metric>{{"found_rate", 1, t.stereo_rate_abs, ""},
+                               {"ez_mm", -1, t.cut_error_mm_abs, "mm"},
+                               {"ex_mm", -1, t.cut_error_mm_abs, "mm"}};
+  });
   res.diff = d.str();
   return res;
 }

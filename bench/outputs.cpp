@@ -6,6 +6,7 @@
 #include "bench/protocols/classification.h"
 #include "bench/report.h"
 #include "bench/size_error.h"
+#include "bench/stereo_tables.h"
 #include "synth/io.h"
 
 #include <tbb/info.h>
@@ -148,6 +149,24 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
       }
     }
     j["confusion"] = conf;
+  }
+  // Seed 001: Table 2's success rates and Table 1 / Fig. 11's depth cells, so
+  // `grapebench check` can gate the stereo_pair protocol.
+  const StereoTables st = stereo_tables(cases, condition_labels(set));
+  if (!st.empty()) {
+    nlohmann::ordered_json succ = nlohmann::ordered_json::array(), depth = nlohmann::ordered_json::array();
+    for (const SuccessCell& c : st.success) {
+      succ.push_back({{"condition", c.condition}, {"estimator", c.estimator}, {"pairs", c.pairs},
+                      {"successes", c.successes}, {"rate", jnum(c.rate)}, {"ci95", {jnum(c.lo), jnum(c.hi)}}});
+    }
+    for (const DepthCell& c : st.depth) {
+      depth.push_back({{"estimator", c.estimator}, {"depth_mm", c.depth_mm}, {"pairs", c.pairs},
+                       {"visible", c.visible}, {"found", c.found},
+                       {"found_rate", jnum(c.visible ? static_cast<double>(c.found) / c.visible : NAN)},
+                       {"answered", c.answered}, {"ez_mm", jnum(c.answered ? c.ez_mm : NAN)},
+                       {"ex_mm", jnum(c.answered ? c.ex_mm : NAN)}});
+    }
+    j["stereo"] = {{"cut_success", succ}, {"depth", depth}};
   }
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const auto& r : scores) {

@@ -24,6 +24,7 @@ packages=(
   python3-pandas  # the README's example of reading results.csv (tested)
   bubblewrap      # external programs run in a sandbox (algorithms/confined_program.h)
   clang libfuzzer-14-dev  # scripts/fuzz.sh and the fuzz targets' short runs in the test suite
+  slurm-wlm munge  # tests/bench/slurm: a one-node Slurm cluster runs scripts/slurm_sweep.sh (daemons only in the test)
 )
 
 missing=()
@@ -44,6 +45,11 @@ fi
 export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
 # Paths relative to the checkout, so a fresh clone elsewhere (CI) hits the same cache.
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$here}"
+# With -g (the sanitizer build's RelWithDebInfo) ccache also hashes the working
+# directory, so each clone's build folder missed; objects differ then only in DWARF's
+# comp_dir (the paths it records are relative to the checkout). docs/harness.md,
+# "Compiler cache".
+export CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 jobs="$(nproc)"
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-Release}" "$@" >/dev/null
 cmake --build "$build" --parallel "$jobs"

@@ -376,6 +376,54 @@ TEST(Check, FailsOnAPerturbedBaselineAndPassesOnTheTrueOne) {
   EXPECT_FALSE(check_against_baseline(fewer, summary).pass);
 }
 
+// The per-protocol gates (scripts/regression_gate.sh): seed 004's classification rows
+// and seed 001's stereo tables are compared too, each metric in its direction.
+TEST(Check, GatesClassificationRowsAndStereoTables) {
+  const nlohmann::json base = nlohmann::json::parse(R"({
+    "scene": "g", "scores": [],
+    "classification": [
+      {"condition": "all", "estimator": "s2", "quantity": "auc_berry", "cases": 2, "mean": 0.95},
+      {"condition": "all", "estimator": "s2", "quantity": "berry_fpr", "cases": 2, "mean": 0.10}],
+    "stereo": {
+      "cut_success": [{"condition": "light=front", "estimator": "luo", "pairs": 12, "successes": 8, "rate": 0.6667}],
+      "depth": [{"estimator": "luo", "depth_mm": 500, "found_rate": 0.27, "ez_mm": 3.0, "ex_mm": 0.4}]},
+    "tolerances": {"classification_abs": 0.01, "stereo_rate_abs": 0.05, "cut_error_mm_abs": 1.0}})");
+  const CheckResult same = check_against_baseline(base, base);
+  EXPECT_TRUE(same.pass) << same.diff;
+  EXPECT_EQ(same.rows_compared, 4);
+  const auto worse = [&](const std::string& pointer, double v, const std::string& says) {
+    nlohmann::json run = base;
+    run[nlohmann::json::json_pointer(pointer)] = v;
+    const CheckResult r = check_against_baseline(run, base);
+    EXPECT_FALSE(r.pass) << pointer;
+    EXPECT_NE(r.diff.find(says), std::string::npos) << r.diff;
+  };
+  worse("/classification/0/mean", 0.93, "classification all s2 auc_berry: mean 0.95 -> 0.93");
+  worse("/classification/1/mean", 0.12, "berry_fpr: mean 0.1 -> 0.12");  // lower is better
+  worse("/stereo/cut_success/0/rate", 0.5833, "stereo.cut_success light=front luo: rate");
+  worse("/stereo/depth/0/found_rate", 0.2, "stereo.depth luo 500: found_rate");
+  worse("/stereo/depth/0/ez_mm", 4.5, "ez_mm 3 -> 4.5 mm");
+  // Within the tolerances, or better: passes.
+  nlohmann::json close = base;
+  close["classification"][0]["mean"] = 0.945;
+  close["classification"][1]["mean"] = 0.05;
+  close["stereo"]["depth"][0]["ez_mm"] = 3.9;
+  EXPECT_TRUE(check_against_baseline(close, base).pass) << check_against_baseline(close, base).diff;
+  // A row missing from the run fails; an unknown tolerance is an error naming it.
+  nlohmann::json fewer = base;
+  fewer["stereo"]["cut_success"] = nlohmann::json::array();
+  EXPECT_FALSE(check_against_baseline(fewer, base).pass);
+  nlohmann::json typo = base;
+  typo["tolerances"]["classifcation_abs"] = 0.1;
+  try {
+    check_against_baseline(base, typo, "run", "b.json");
+    ADD_FAILURE() << "an unknown tolerance key passed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("b.json: 'tolerances.classifcation_abs' is not a tolerance"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(CompareBench, FlagsASlowdownByRatioAndUTest) {
   const auto file = [](double scale, double other) {
     nlohmann::json j;
