@@ -18,8 +18,13 @@ std::map<std::string, std::vector<double>> times_of(const nlohmann::json& benchm
   std::map<std::string, std::vector<double>> out;
   for (const auto& b : benchmarks) {
     if (b.value("run_type", "iteration") != "iteration") continue;
+    // A repetition that failed (state.SkipWithError) has no meaningful time.
+    if (b.value("error_occurred", false)) continue;
     const std::string name = b.value("run_name", b.at("name").get<std::string>());
-    const std::string unit = b.value("time_unit", "ns");
+    // Google Benchmark always writes the unit; read as ns when absent, a file in ms
+    // read 1e6 times too fast (a 44 % slowdown came out faster).
+    if (!b.contains("time_unit")) throw InputError("benchmark '" + name + "': no time_unit (s, ms, us or ns)");
+    const std::string unit = b.at("time_unit").get<std::string>();
     if (unit != "s" && unit != "ms" && unit != "us" && unit != "ns") {
       throw InputError("benchmark '" + name + "': time_unit '" + unit + "' (s, ms, us or ns)");
     }
@@ -40,6 +45,8 @@ std::map<std::string, std::vector<double>> times(const nlohmann::json& j, const 
     return times_of(j["benchmarks"]);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string(which) + ": a benchmark entry is malformed (" + e.what() + ")");
+  } catch (const InputError& e) {
+    throw InputError(std::string(which) + ": " + e.what());
   }
 }
 
@@ -106,8 +113,8 @@ std::string benchmark_json_text(std::string text) {
 }
 
 BenchComparison compare_benchmarks(const nlohmann::json& baseline, const nlohmann::json& contender, double threshold,
-                                   double alpha) {
-  const auto old_t = times(baseline, "baseline"), new_t = times(contender, "contender");
+                                   double alpha, const std::string& baseline_name, const std::string& contender_name) {
+  const auto old_t = times(baseline, baseline_name.c_str()), new_t = times(contender, contender_name.c_str());
   BenchComparison c;
   std::ostringstream s;
   char line[300];
@@ -124,11 +131,13 @@ BenchComparison compare_benchmarks(const nlohmann::json& baseline, const nlohman
     const double mo = median(it->second), mn = median(nt), ratio = mn / mo;
     const bool enough = it->second.size() >= 3 && nt.size() >= 3;
     const double p = enough ? u_test_p(it->second, nt) : std::nan("");
-    const bool flagged = ratio > 1 + threshold && (!enough || p < alpha);
-    const bool faster = ratio < 1 - threshold && (!enough || p < alpha);
+    // Under 3 repetitions a side the U test cannot say anything: no verdict, rather
+    // than a SLOWER on one noisy sample.
+    const bool flagged = enough && ratio > 1 + threshold && p < alpha;
+    const bool faster = enough && ratio < 1 - threshold && p < alpha;
     c.slower = c.slower || flagged;
     std::snprintf(line, sizeof line, "%-40s %10.4g ms %10.4g ms %8.3f %8.3g  %s\n", name.c_str(), mo / 1e6, mn / 1e6,
-                  ratio, p, flagged ? "SLOWER" : faster ? "faster" : "same");
+                  ratio, p, !enough ? "? (under 3 repetitions)" : flagged ? "SLOWER" : faster ? "faster" : "same");
     s << line;
   }
   for (const auto& [name, ot] : old_t) {

@@ -21,11 +21,14 @@ struct BenchComparison {
 // tokens outside strings become null.
 std::string benchmark_json_text(std::string text);
 
-// A benchmark is flagged when median(new) / median(old) > 1 + threshold and, with at
-// least 3 repetitions on each side, the two-sided Mann-Whitney U test gives p < alpha.
-// Aggregate rows (mean/median/stddev) are ignored; the repetitions are used.
+// A benchmark is flagged when median(new) / median(old) > 1 + threshold and the
+// two-sided Mann-Whitney U test gives p < alpha; with fewer than 3 repetitions on a
+// side it gets no verdict. Aggregate rows (mean/median/stddev) and repetitions with
+// `error_occurred` are ignored; an entry without `time_unit` is an error. Errors name
+// the file by `baseline_name` or `contender_name`.
 BenchComparison compare_benchmarks(const nlohmann::json& baseline, const nlohmann::json& contender, double threshold,
-                                   double alpha = 0.05);
+                                   double alpha = 0.05, const std::string& baseline_name = "baseline",
+                                   const std::string& contender_name = "contender");
 
 // The speed gate: in-run ratios of medians (a grapebench operation over its reference
 // measured in the same run: the raw Embree loop, Open3D), each under a stated bound.

@@ -328,7 +328,8 @@ Command compare_bench_subcommand(CLI::App& app) {
             BenchComparison c;
             try {
               c = compare_benchmarks(read_json(o->old_file, "a Google Benchmark JSON file", true),
-                                     read_json(o->new_file, "a Google Benchmark JSON file", true), o->threshold);
+                                     read_json(o->new_file, "a Google Benchmark JSON file", true), o->threshold, 0.05,
+                                     o->old_file, o->new_file);
             } catch (const nlohmann::json::exception& e) {
               throw InputError("compare-bench: a file lacks Google Benchmark fields: " + std::string(e.what()));
             }
