@@ -133,8 +133,10 @@ CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::js
     const std::string unit = b.value("unit", "");
     const auto report = [&](const char* metric, double was, double is, double allowed) {
       res.pass = false;
-      std::snprintf(line, sizeof line, "WORSE    %s: %s %.6g -> %.6g %s (allowed %.6g)\n", name(key).c_str(), metric, was,
-                    is, unit.c_str(), allowed);
+      // The row's unit belongs to RMSE and bias only (MAPE is in %, R2 and rates are pure).
+      const bool in_unit = metric == std::string("RMSE") || metric == std::string("|bias|");
+      std::snprintf(line, sizeof line, "WORSE    %s: %s %.6g -> %.6g%s%s (allowed %.6g)\n", name(key).c_str(), metric, was,
+                    is, in_unit && !unit.empty() ? " " : "", in_unit ? unit.c_str() : "", allowed);
       d << line;
     };
     const double rb = value(b, "rmse"), rn = value(r, "rmse");
@@ -187,8 +189,8 @@ CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::js
         const double limit = was - m.sign * m.allowed;
         if (!std::isfinite(is) || m.sign * (is - limit) < -1e-12) {
           res.pass = false;
-          std::snprintf(line, sizeof line, "WORSE    %s %s: %s %.6g -> %.6g %s (allowed %.6g)\n", path.c_str(),
-                        key.c_str(), m.field, was, is, m.unit, limit);
+          std::snprintf(line, sizeof line, "WORSE    %s %s: %s %.6g -> %.6g%s%s (allowed %.6g)\n", path.c_str(),
+                        key.c_str(), m.field, was, is, *m.unit ? " " : "", m.unit, limit);
           d << line;
         }
       }

@@ -5,8 +5,8 @@
 # per benchmark the two medians over every repetition, the ratio B/A, the range of
 # the per-round ratios and `grapebench compare-bench`'s verdict (SLOWER only when the
 # ratio of medians exceeds 1 + THRESHOLD and the Mann-Whitney U test gives p < 0.05).
-# A benchmark is called faster or slower only where every round agrees on the side of
-# 1 (the spread column); otherwise "~".
+# A benchmark is called faster or slower only where every round's ratio is beyond
+# 1 -/+ THRESHOLD (the spread column); otherwise "~".
 #
 # Usage: scripts/compare_commits.sh A B [filter] [rounds] [repetitions]
 #   filter       Google Benchmark regex (default: the speed gate's benchmarks)
@@ -42,21 +42,23 @@ for side in a b; do
   fi
   echo "== building $side = ${sha[$side]:0:10} ($(git -C "$here" log -1 --format=%s "${sha[$side]}" | cut -c1-60))"
   # The commit's own set-up script, so each side builds as it did at the time.
-  GRAPEBENCH_BUILD_DIR="$dir/build_$side" bash "$wt/scripts/setup.sh" "$dir/build_$side" >"$dir/build_$side.log" 2>&1 ||
+  # The build inside the worktree, as in a checkout: the compiler then sees `-I ..`
+  # and ccache serves the objects any checkout built (a sibling folder missed them all).
+  bash "$wt/scripts/setup.sh" "$wt/build" -DGRAPEBENCH_BUILD_TESTS=OFF >"$dir/build_$side.log" 2>&1 ||
     { echo "compare_commits: the build of $side failed; see $dir/build_$side.log" >&2; exit 2; }
 done
 
-gb="$dir/build_b/bench/grapebench"
+gb="$dir/src_b/build/bench/grapebench"
 rm -rf "$dir/runs"; mkdir -p "$dir/runs"
 ran=()
 for exe in "${perf[@]}"; do
-  [ -x "$dir/build_a/bench/$exe" ] && [ -x "$dir/build_b/bench/$exe" ] || continue
+  [ -x "$dir/src_a/build/bench/$exe" ] && [ -x "$dir/src_b/build/bench/$exe" ] || continue
   # Skip executables with no benchmark under the filter (both sides list the same).
-  "$dir/build_b/bench/$exe" --benchmark_list_tests --benchmark_filter="$filter" 2>/dev/null | grep -q . || continue
+  "$dir/src_b/build/bench/$exe" --benchmark_list_tests --benchmark_filter="$filter" 2>/dev/null | grep -q . || continue
   ran+=("$exe")
   for r in $(seq 1 "$rounds"); do
     for side in a b; do
-      OMP_NUM_THREADS=1 "$dir/build_$side/bench/$exe" --benchmark_filter="$filter" --benchmark_repetitions="$reps" \
+      OMP_NUM_THREADS=1 "$dir/src_$side/build/bench/$exe" --benchmark_filter="$filter" --benchmark_repetitions="$reps" \
         --benchmark_enable_random_interleaving=true --benchmark_min_time=0.2 --benchmark_format=json \
         --benchmark_out="$dir/runs/${exe}_${side}_$r.json" --benchmark_out_format=json >/dev/null 2>&1
     done

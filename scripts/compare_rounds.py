@@ -5,8 +5,8 @@ Usage: compare_rounds.py GRAPEBENCH THRESHOLD RUNS_DIR ROUNDS EXE...
 RUNS_DIR holds <exe>_<a|b>_<round>.json (Google Benchmark JSON with repetitions).
 Per exe the rounds of each side are joined into <exe>_<side>.json and handed to
 `grapebench compare-bench` (ratio of medians over every repetition, U test); then,
-per benchmark, the ratio of medians of each round, whose range says whether the
-rounds agree on the side of 1 (the spread verdict).
+per benchmark, the ratio of medians of each round: "B faster" or "B slower" only
+when every round is beyond 1 -/+ THRESHOLD, otherwise "~" (the spread verdict).
 Exit: compare-bench's worst exit code (1: a slowdown flagged).
 """
 import json
@@ -72,7 +72,15 @@ def main(argv):
             if not ratios or not all_a or not all_b:
                 continue
             lo, hi = min(ratios), max(ratios)
-            verdict = "B faster" if hi < 1 else "B slower" if lo > 1 else "~ (rounds disagree)"
+            t = float(threshold)
+            if hi < 1 - t:
+                verdict = "B faster"
+            elif lo > 1 + t:
+                verdict = "B slower"
+            elif hi < 1 or lo > 1:
+                verdict = f"~ (every round {'under' if hi < 1 else 'over'} 1, within {t:.0%})"
+            else:
+                verdict = "~ (rounds disagree)"
             rows.append((name, statistics.median(all_a) / 1e6, statistics.median(all_b) / 1e6,
                          statistics.median(all_b) / statistics.median(all_a), lo, hi, verdict))
     print(f"\n{'benchmark':<44} {'A median':>11} {'B median':>11} {'B/A':>7} {'rounds B/A':>15}  verdict")

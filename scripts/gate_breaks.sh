@@ -34,10 +34,10 @@ for b in "${breaks[@]}"; do
     echo "gate_breaks: the break $name changed nothing in $file (the code moved?)" >&2
     exit 2
   fi
-  bash "$src/scripts/setup.sh" "$dir/build" -DGRAPEBENCH_BUILD_TESTS=OFF -DGRAPEBENCH_BUILD_BENCHMARKS=OFF >"$dir/$name.build.log" 2>&1 ||
+  bash "$src/scripts/setup.sh" "$src/build" -DGRAPEBENCH_BUILD_TESTS=OFF -DGRAPEBENCH_BUILD_BENCHMARKS=OFF >"$dir/$name.build.log" 2>&1 ||
     { echo "gate_breaks: $name does not build; see $dir/$name.build.log" >&2; cp "$dir/orig" "$src/$file"; exit 2; }
   rc=0
-  GRAPEBENCH_GATE_OUT="$dir/gate_$name" "$src/scripts/regression_gate.sh" "$dir/build" "$gate" >"$dir/$name.gate.log" 2>&1 || rc=$?
+  GRAPEBENCH_GATE_OUT="$dir/gate_$name" "$src/scripts/regression_gate.sh" "$src/build" "$gate" >"$dir/$name.gate.log" 2>&1 || rc=$?
   cp "$dir/orig" "$src/$file"
   verdict="caught"
   [ "$rc" -eq 1 ] || { verdict="NOT CAUGHT"; status=1; }

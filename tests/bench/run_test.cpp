@@ -465,20 +465,21 @@ TEST(CompareBench, FlagsASlowdownByRatioAndUTest) {
 // in ms reported faster), failed repetitions were timed, one repetition gave SLOWER
 // with p = nan, and errors named "baseline" rather than the file.
 TEST(CompareBench, RefusesMissingUnitsSkipsFailedRepetitionsAndJudgesNothingOnOne) {
+  // json::array(): a one-element brace list is a copy of that element under clang.
   const auto entry = [](double ms) {
     return nlohmann::json{{"name", "BM_A"}, {"run_name", "BM_A"}, {"run_type", "iteration"}, {"real_time", ms},
                           {"time_unit", "ms"}};
   };
   nlohmann::json one_old, one_new;
-  one_old["benchmarks"] = {entry(10)};
-  one_new["benchmarks"] = {entry(20)};
+  one_old["benchmarks"] = nlohmann::json::array({entry(10)});
+  one_new["benchmarks"] = nlohmann::json::array({entry(20)});
   const BenchComparison one = compare_benchmarks(one_old, one_new, 0.1);
   EXPECT_FALSE(one.slower) << one.table;
   EXPECT_NE(one.table.find("under 3 repetitions"), std::string::npos) << one.table;
   // A repetition with error_occurred is not a time: the two left are equal.
   nlohmann::json old_reps, new_reps;
-  old_reps["benchmarks"] = {entry(10), entry(10.1), entry(9.9)};
-  new_reps["benchmarks"] = {entry(10), entry(10.1), entry(9.9), entry(500)};
+  old_reps["benchmarks"] = nlohmann::json::array({entry(10), entry(10.1), entry(9.9)});
+  new_reps["benchmarks"] = nlohmann::json::array({entry(10), entry(10.1), entry(9.9), entry(500)});
   new_reps["benchmarks"][3]["error_occurred"] = true;
   const BenchComparison skipped = compare_benchmarks(old_reps, new_reps, 0.1);
   EXPECT_FALSE(skipped.slower) << skipped.table;
