@@ -7,8 +7,8 @@
 #include <memory>
 #include <sstream>
 
-#include "algorithms/confined_program.h"
-#include "algorithms/temp_folder.h"
+#include "synth/confined_program.h"
+#include "synth/temp_folder.h"
 #include "synth/png.h"
 
 namespace grapebench {
@@ -32,7 +32,7 @@ const ParamTable<ColmapParams>& colmap_param_table() {
 
 namespace {
 
-// Runs one COLMAP step confined to the run's folder (algorithms/confined_program.h:
+// Runs one COLMAP step confined to the run's folder (synth/confined_program.h:
 // bubblewrap, the process tree killed when the step ends or at the deadline); returns
 // the tail of what it logged (COLMAP logs to stderr).
 std::string run(const std::vector<std::string>& args, const fs::path& dir, const ColmapParams& p,

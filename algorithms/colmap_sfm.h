@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/confined_program.h"
+#include "synth/confined_program.h"
 #include "algorithms/stereo_pair.h"
 #include "synth/param_table.h"
 

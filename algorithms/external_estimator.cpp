@@ -14,8 +14,8 @@
 #include <mutex>
 #include <sstream>
 
-#include "algorithms/confined_program.h"
-#include "algorithms/temp_folder.h"
+#include "synth/confined_program.h"
+#include "synth/temp_folder.h"
 #include "synth/io.h"
 #include "synth/png.h"
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/confined_program.h"
+#include "synth/confined_program.h"
 #include "algorithms/estimate.h"
 #include "synth/param_table.h"
 
@@ -24,7 +24,7 @@ struct ExternalParams {
   std::vector<std::string> command;
   std::vector<Quantity> quantities{Quantity::Volume};  // what the answer must hold
   double timeout = 300;  // s, [0.1, 86400], the whole exchange of one request; then it and all it started are killed
-  // Confinement (algorithms/confined_program.h): the sandbox and per-process limits.
+  // Confinement (synth/confined_program.h): the sandbox and per-process limits.
   ProgramLimits::Sandbox sandbox = ProgramLimits::Sandbox::Bwrap;
   double cpu_limit = 3600;    // s
   double memory_limit = 8192;  // MB of address space

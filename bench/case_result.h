@@ -158,7 +158,7 @@ CaseResult new_case(const Condition& condition, int condition_index, const Bunch
 nlohmann::ordered_json case_to_json(const CaseResult& c);
 // FNV-1a (64 bits) of the file's content without `digest`, keys sorted. It finds
 // edits and damage, not a forger who recomputes it: external programs are kept from
-// the output folder by their sandbox (algorithms/confined_program.h).
+// the output folder by their sandbox (synth/confined_program.h).
 std::string case_digest(const nlohmann::json& j);
 struct CaseDigestMismatch : std::runtime_error {
   CaseDigestMismatch() : std::runtime_error("the case file does not match its digest (edited or damaged)") {}

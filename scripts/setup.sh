@@ -14,6 +14,7 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   libopencv-imgproc-dev  # seed 001's image steps (core + imgproc; not the 270 MiB metapackage)
+  libopencv-imgcodecs-dev  # the colour camera's JPEG (sensors/render/develop_image.cpp)
   libopencv-calib3d-dev libopencv-ml-dev  # seed 004: StereoSGBM, EM (the GMM baseline)
   libsvm-dev libnanoflann-dev  # seed 004: the SVM; k-d trees of the per-point features
   colmap  # seed 004: poses from the images (sparse SfM, CPU; run as a program)
@@ -22,9 +23,10 @@ packages=(
   chromium        # the report's browser test (headless)
   libjs-three     # the report's 3D view of a scan against its ground-truth mesh (inlined)
   python3-pandas  # the README's example of reading results.csv (tested)
-  bubblewrap      # external programs run in a sandbox (algorithms/confined_program.h)
+  bubblewrap      # external programs run in a sandbox (synth/confined_program.h)
   clang libfuzzer-14-dev  # scripts/fuzz.sh and the fuzz targets' short runs in the test suite
   slurm-wlm munge  # tests/bench/slurm: a one-node Slurm cluster runs scripts/slurm_sweep.sh (daemons only in the test)
+  blender  # renderer: cycles, the physically based reference (sensors/render/cycles_scene.py), headless
 )
 
 missing=()

@@ -7,6 +7,8 @@
 #include <memory>
 
 #include "sensors/ideal.h"
+#include "sensors/render/ray_render.h"
+#include "synth/temp_folder.h"
 #include "synth/mesh.h"
 #include "synth/rng.h"
 
@@ -172,6 +174,29 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
   right_pose.translation() = pose * Vec3(p_.baseline, 0, 0);
   const Camera right{intrinsics(), right_pose};
   OrganisedCloud out = capture_exact(scene, left);
+  if (p_.renderer != StereoRgbParams::Renderer::OpenGl) {
+    const Illumination light = stereo_rgb_illumination(p_, pose);
+    const double f = p_.focal_length_mm * 1e-3;
+    std::vector<float> l, r;
+    if (p_.renderer == StereoRgbParams::Renderer::Cycles) {
+      const TempFolder work("grapebench-cycles");
+      l = cycles_render(scene, left, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 4), work.path / "left").linear;
+      r = cycles_render(scene, right, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 5), work.path / "right").linear;
+    } else {
+      l = ray_render(scene, left, light, p_.appearance, p_.camera, f, derive_seed(seed, 4)).linear;
+      r = ray_render(scene, right, light, p_.appearance, p_.camera, f, derive_seed(seed, 5)).linear;
+    }
+    // A synchronised pair: the right camera takes the left's exposure.
+    const DevelopResult dl = develop_image(l, left.K, p_.camera, derive_seed(seed, 2));
+    const DevelopResult dr = develop_image(r, right.K, p_.camera, derive_seed(seed, 3), dl.gain);
+    out.baseline = p_.baseline;
+    out.left_image = dl.rgb;
+    out.right_image = dr.rgb;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (out.valid[i]) out.rgb[i] = {out.left_image[3 * i], out.left_image[3 * i + 1], out.left_image[3 * i + 2]};
+    }
+    return out;
+  }
 
   const RenderMesh mesh = render_mesh(scene.bunch(), p_.mesh_level);
   const RenderMesh leaves = foliage_mesh(scene.foliage(), p_.leaf_texture, p_.texture_cells);
@@ -355,6 +380,23 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
 
 nlohmann::ordered_json StereoRgb::describe() const { return with_type(type(), stereo_rgb_param_table().to_json(p_)); }
 
+Illumination stereo_rgb_illumination(const StereoRgbParams& p, const Eigen::Isometry3d& pose) {
+  const SunLight sl = sun_light(p);
+  const Vec3 view = pose.linear().col(2);
+  const Vec3 back = Vec3(-view.x(), -view.y(), 0).normalized();
+  const double az = sl.azimuth_deg * M_PI / 180, el = sl.elevation_deg * M_PI / 180;
+  Illumination light;
+  light.sun_direction = std::cos(el) * (Eigen::AngleAxisd(az, Vec3::UnitZ()) * back) + std::sin(el) * Vec3::UnitZ();
+  // The presets' sun and ambient strengths read as the sun's irradiance and the sky's
+  // on a horizontal surface; a sky brighter than its sun (overcast) is the CIE
+  // overcast sky, else a clear one.
+  light.sun = sl.sun;
+  light.sky_irradiance = sl.ambient;
+  light.sun_size_deg = p.sun_size_deg;
+  light.sky = sl.sun < sl.ambient ? Illumination::Sky::Overcast : Illumination::Sky::Clear;
+  return light;
+}
+
 SunLight sun_light(const StereoRgbParams& p) {
   using L = StereoRgbParams::Light;
   switch (p.light) {
@@ -374,6 +416,7 @@ SunLight sun_light(const StereoRgbParams& p) {
 const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
   using P = StereoRgbParams;
   const auto custom = [](const P& p) { return p.light == P::Light::Custom; };
+  const auto ray = [](const P& p) { return p.renderer != P::Renderer::OpenGl; };
   static const ParamTable<P> table =
       ParamTable<P>()
           .integer("width", "px", &P::width, 64, 4096, "image width (seed 001: 800)")
@@ -414,7 +457,26 @@ const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
           .real("leaf_texture", "-", &P::leaf_texture, 0, 1,
                 "relative colour variation fixed to the leaf surface, for matching (0: flat leaves)")
           .integer("texture_cells", "count", &P::texture_cells, 1, 32, "leaf triangles split into this many squared")
-          .when("leaf_texture above 0", [](const P& p) { return p.leaf_texture > 0; });
+          .when("leaf_texture above 0", [](const P& p) { return p.leaf_texture > 0; })
+          .choice("renderer", &P::renderer,
+                  {{"opengl", P::Renderer::OpenGl}, {"ray", P::Renderer::Ray}, {"cycles", P::Renderer::Cycles}},
+                  "opengl: OSMesa, Phong (every figure so far); ray: the appearance model, sun and sky, the camera "
+                  "chain; cycles: the same scene path traced by Blender (the reference)")
+          .real("sun_size_deg", "deg", &P::sun_size_deg, 0, 20, "ray: the sun's angular diameter (0.53: the solar disc)")
+          .when("renderer: ray or cycles", ray)
+          .section("appearance", &P::appearance, appearance_param_table(),
+                   "ray: what berries, leaves, stems, ground and rows reflect (sensors/render/appearance.h)")
+          .when("renderer: ray or cycles", ray)
+          .section("camera", &P::camera, photo_camera_param_table(),
+                   "ray: exposure, noise, Bayer, sRGB, lens and JPEG (sensors/render/develop_image.h)")
+          .when("renderer: ray or cycles", ray)
+          .section("cycles", &P::cycles, cycles_param_table(), "cycles: samples, threads, time limit, leaf atlas")
+          .when("renderer: cycles", [](const P& p) { return p.renderer == P::Renderer::Cycles; })
+          .validate([](const P& p, const ConfigNode& node) {
+            if (p.renderer != P::Renderer::OpenGl && p.light == P::Light::Lamp)
+              node.fail("light", "the ray and cycles renderers are lit by a sun and a sky: front, overshadow, overcast or custom "
+                                 "(lamp is the OpenGL renderer's)");
+          });
   return table;
 }
 

@@ -1,11 +1,16 @@
 // Binocular colour stereo rig of seed 001: two rectified 800 x 600 colour cameras,
 // 6 mm lenses, 5 cm baseline. Left and right images are rendered with OSMesa from
 // the bunch's triangle mesh (smooth shading, specular highlights, berry colours,
-// plain or foliage background); the organised cloud of the left camera carries the
-// exact depth and labels from the ray scene, so estimators that match the images
-// can be scored pixel by pixel.
+// plain or foliage background), or, with `renderer: ray` or `cycles`, photoreal
+// (sensors/render/); the organised cloud of the left camera carries the exact depth
+// and labels from the ray scene, so estimators that match the images can be scored
+// pixel by pixel.
 #pragma once
 
+#include "sensors/render/appearance.h"
+#include "sensors/render/cycles_render.h"
+#include "sensors/render/develop_image.h"
+#include "sensors/render/illumination.h"
 #include "sensors/sensor.h"
 
 namespace grapebench {
@@ -40,12 +45,26 @@ struct StereoRgbParams {
   // (veins, blotches). 0: flat leaves (seed 001's scenes, unchanged).
   double leaf_texture = 0;  // [0, 1]
   int texture_cells = 8;    // [1, 32]
+  // Which renderer makes the images: opengl (OSMesa, Phong shading, the images every
+  // result so far was measured on); ray (sensors/render/ray_render.h: the appearance
+  // model under a sun and sky); cycles (sensors/render/cycles_render.h: the same scene
+  // path traced by Blender, the reference). ray and cycles go through the camera chain
+  // of sensors/render/develop_image.h.
+  enum class Renderer { OpenGl, Ray, Cycles };
+  Renderer renderer = Renderer::OpenGl;
+  double sun_size_deg = 0.53;  // ray: the sun's angular diameter (soft shadows), [0, 20]
+  AppearanceParams appearance;  // ray: section `appearance:`
+  PhotoCameraParams camera;     // ray: section `camera:`
+  CyclesParams cycles;          // cycles: section `cycles:`
 };
 // The sun of a light preset (custom: the params' own).
 struct SunLight {
   double elevation_deg, azimuth_deg, sun, ambient, backdrop;
 };
 SunLight sun_light(const StereoRgbParams& p);
+// The ray and cycles renderers' light for a camera at `pose`: the preset's sun about
+// the vertical from behind the camera, its sky.
+Illumination stereo_rgb_illumination(const StereoRgbParams& p, const Eigen::Isometry3d& pose);
 // The scene keys of `sensor: {type: ...}` for this model.
 const ParamTable<StereoRgbParams>& stereo_rgb_param_table();
 

@@ -13,6 +13,7 @@
 #include "bench/protocols/stereo_pair.h"
 #include "sensors/camera.h"
 #include "sensors/stereo_rgb.h"
+#include "synth/foliage.h"
 #include "synth/generate.h"
 
 namespace {
@@ -56,6 +57,36 @@ void BM_StereoRender(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(rig.capture(*setup().scene, setup().pose, 5));
 }
 BENCHMARK(BM_StereoRender)->Unit(benchmark::kMillisecond);
+
+// The photoreal renderer (renderer: ray, its defaults) on the same pair, against
+// BM_StereoRender (issue 38's item 8). With foliage (seed 001's scenes) both renderers are timed again.
+void BM_StereoRenderRay(benchmark::State& state) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  StereoRgbParams p = setup().params;
+  p.renderer = StereoRgbParams::Renderer::Ray;
+  const StereoRgb rig(p);
+  for (auto _ : state) benchmark::DoNotOptimize(rig.capture(*setup().scene, setup().pose, 5));
+}
+BENCHMARK(BM_StereoRenderRay)->Unit(benchmark::kMillisecond);
+
+const RayScene& foliage_scene() {
+  static const RayScene scene(setup().bunch, std::nullopt, generate_foliage(FoliageParams{}, setup().bunch, 9));
+  return scene;
+}
+void BM_StereoRenderFoliage(benchmark::State& state) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const StereoRgb rig(setup().params);
+  for (auto _ : state) benchmark::DoNotOptimize(rig.capture(foliage_scene(), setup().pose, 5));
+}
+BENCHMARK(BM_StereoRenderFoliage)->Unit(benchmark::kMillisecond);
+void BM_StereoRenderRayFoliage(benchmark::State& state) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  StereoRgbParams p = setup().params;
+  p.renderer = StereoRgbParams::Renderer::Ray;
+  const StereoRgb rig(p);
+  for (auto _ : state) benchmark::DoNotOptimize(rig.capture(foliage_scene(), setup().pose, 5));
+}
+BENCHMARK(BM_StereoRenderRayFoliage)->Unit(benchmark::kMillisecond);
 
 void BM_Luo2016Pipeline(benchmark::State& state) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);

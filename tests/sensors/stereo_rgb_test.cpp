@@ -2,12 +2,14 @@
 #include "sensors/stereo_rgb.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
 #include <tuple>
 
 #include "sensors/ideal.h"
+#include "sensors/sensor_registry.h"
 #include "synth/foliage.h"
 #include "synth/generate.h"
 
@@ -167,6 +169,75 @@ TEST(StereoRgb, LightPresetsAndCastShadows) {
   std::printf("[stereo] facing the sun: lit %.1f (%d px), in cast shadow %.1f (%d px)\n", lit / nl, nl, shadowed / ns,
               ns);
   EXPECT_GT(lit / nl, 2 * shadowed / ns);
+}
+
+}  // namespace
+}  // namespace grapebench
+
+namespace grapebench {
+namespace {
+
+std::string error_of(const std::string& yaml) {
+  try {
+    nlohmann::ordered_json params;
+    sensor_registry().create(ConfigNode::load_string(yaml, "scene.yaml"), params);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The photoreal path's keys are read by their own tables, with file:line and range,
+// and only where they apply.
+TEST(StereoRgb, TheRayRenderersKeysAreCheckedWithTheirRanges) {
+  EXPECT_NE(error_of("type: stereo_rgb\nrenderer: ray\n").find("light"), std::string::npos);
+  const std::string bloom = error_of("type: stereo_rgb\nrenderer: ray\nlight: front\nappearance:\n  bloom: 2\n");
+  EXPECT_NE(bloom.find("scene.yaml:5"), std::string::npos) << bloom;
+  EXPECT_NE(bloom.find("bloom"), std::string::npos) << bloom;
+  EXPECT_NE(bloom.find("[0, 1]"), std::string::npos) << bloom;
+  const std::string lens = error_of("type: stereo_rgb\nrenderer: ray\nlight: front\ncamera: {f_number: 0.5}\n");
+  EXPECT_NE(lens.find("f_number"), std::string::npos) << lens;
+  const std::string opengl = error_of("type: stereo_rgb\nappearance: {bloom: 0.5}\n");
+  EXPECT_NE(opengl.find("renderer: ray or cycles"), std::string::npos) << opengl;
+  const std::string cycles = error_of("type: stereo_rgb\nrenderer: ray\nlight: front\ncycles: {samples: 4}\n");
+  EXPECT_NE(cycles.find("renderer: cycles"), std::string::npos) << cycles;
+  EXPECT_EQ(error_of("type: stereo_rgb\nrenderer: ray\nlight: overcast\ncamera: {jpeg_quality: 90, samples: 1}\n"), "");
+}
+
+// The whole pair through the ray renderer and the camera chain: the same bytes at 1
+// and 2 threads; the left image's colours are the cloud's.
+TEST(StereoRgb, TheRayRenderedPairIsTheSameAtAnyThreadCount) {
+  const Bunch b = generate_bunch(preset("table-red"), 4);
+  const RayScene scene(b, std::nullopt, generate_foliage(FoliageParams{}, b, 9));
+  StereoRgbParams p;
+  p.renderer = StereoRgbParams::Renderer::Ray;
+  p.light = StereoRgbParams::Light::Front;
+  p.width = 160;
+  p.height = 120;
+  p.pixel_pitch_um = 30;
+  p.camera.samples = 2;
+  const StereoRgb rig(p);
+  const Vec3 c = scene.bunch_centre();
+  const auto pose = look_at(c - Vec3(0, 0.6, 0), c);
+  OrganisedCloud one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = rig.capture(scene, pose, 3);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = rig.capture(scene, pose, 3);
+  }
+  EXPECT_EQ(one.left_image, two.left_image);
+  EXPECT_EQ(one.right_image, two.right_image);
+  EXPECT_NE(one.left_image, one.right_image);
+  std::size_t berries = 0;
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    if (!one.valid[i]) continue;
+    berries += one.label[i] == static_cast<std::uint8_t>(Part::Berry);
+    EXPECT_EQ(one.rgb[i][0], one.left_image[3 * i]);
+  }
+  EXPECT_GT(berries, 100u);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Hostile programs against the confinement: daemons that leave their process group,
 // floods of stderr, writes outside the work folder, a look at the harness through
 // /proc, the network, and the resource limits; with bubblewrap and without.
-#include "algorithms/confined_program.h"
+#include "synth/confined_program.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>

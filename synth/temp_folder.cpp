@@ -1,4 +1,4 @@
-#include "algorithms/temp_folder.h"
+#include "synth/temp_folder.h"
 
 #include <unistd.h>
 

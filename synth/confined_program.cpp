@@ -1,4 +1,4 @@
-#include "algorithms/confined_program.h"
+#include "synth/confined_program.h"
 
 #include <fcntl.h>
 #include <poll.h>

@@ -1,0 +1,285 @@
+#include "sensors/render/cycles_render.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "sensors/render/row_copies.h"
+#include "synth/confined_program.h"
+#include "synth/png.h"
+
+#ifndef GRAPEBENCH_CYCLES_SCRIPT
+#error "GRAPEBENCH_CYCLES_SCRIPT: the path of sensors/render/cycles_scene.py (set by CMake)"
+#endif
+
+namespace grapebench {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+json j3(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+json jc(const Rgb& c) { return json::array({c.r, c.g, c.b}); }
+double lum(const Rgb& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+void write_file(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream f(path, std::ios::binary);
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!f) throw std::runtime_error("cycles: cannot write " + path.string());
+}
+
+template <class T>
+std::vector<T> read_raw(const std::filesystem::path& path, std::size_t count) {
+  std::ifstream f(path, std::ios::binary | std::ios::ate);
+  if (!f) throw std::runtime_error("cycles: Blender wrote no " + path.filename().string());
+  const auto size = static_cast<std::size_t>(f.tellg());
+  if (size != count * sizeof(T))
+    throw std::runtime_error("cycles: " + path.filename().string() + " holds " + std::to_string(size) + " bytes, want " +
+                             std::to_string(count * sizeof(T)));
+  std::vector<T> v(count);
+  f.seekg(0);
+  f.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(size));
+  return v;
+}
+
+// The leaves of a foliage as fans: the centre vertex of each, the triangles in order.
+struct LeafFans {
+  std::vector<int> centre;            // per leaf, its centre vertex
+  std::vector<int> leaf_of_vertex;    // per vertex, its leaf (-1: none)
+};
+LeafFans leaf_fans(const Foliage& f) {
+  LeafFans out;
+  out.leaf_of_vertex.assign(f.vertices.size(), -1);
+  std::map<int, int> index;
+  for (const auto& t : f.triangles) {
+    auto [it, added] = index.emplace(t[0], static_cast<int>(out.centre.size()));
+    if (added) out.centre.push_back(t[0]);
+    for (int k : t) out.leaf_of_vertex[static_cast<std::size_t>(k)] = it->second;
+  }
+  return out;
+}
+
+}  // namespace
+
+CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const Illumination& light,
+                                 const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
+                                 const CyclesParams& cycles, std::uint64_t seed, const std::filesystem::path& work) {
+  const char* env = std::getenv("GRAPEBENCH_BLENDER");
+  const std::string blender = find_program(env && *env ? env : "blender");
+  if (blender.empty())
+    throw InputError("renderer: cycles needs Blender (Debian package `blender`, installed by scripts/setup.sh): " +
+                     std::string(env && *env ? env : "blender") + " not found");
+  std::filesystem::create_directories(work);
+  const int W = cam.K.width, H = cam.K.height;
+  json s;
+  s["format"] = "grapebench-cycles-1";
+  s["image"] = {{"width", W}, {"height", H}, {"samples", cycles.samples},
+                {"seed", static_cast<std::int64_t>(seed % 2147483647ULL)}, {"threads", cycles.threads}};
+  json pose = json::array();
+  const Eigen::Matrix4d P = cam.pose.matrix();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) pose.push_back(P(r, c));
+  // The sensor's width from the focal length in pixels and in metres.
+  const double pitch = focal_length / cam.K.fx;
+  const double focus = camera.focus_distance > 0 ? camera.focus_distance
+                                                 : std::max(0.05, (cam.pose.inverse() * scene.bunch_centre()).z());
+  s["camera"] = {{"pose", pose},           {"fx", cam.K.fx},
+                 {"fy", cam.K.fy},         {"cx", cam.K.cx},
+                 {"cy", cam.K.cy},         {"sensor_width_mm", W * pitch * 1e3},
+                 {"f_number", camera.f_number}, {"focus_distance", focus}};
+  s["sun"] = {{"direction", j3(light.sun_direction.normalized())},
+              {"irradiance", light.sun},
+              {"colour", jc(light.sun_colour)},
+              {"angle_deg", light.sun_size_deg}};
+  const SkyModel sky(light);
+  s["sky"] = {{"kind", light.sky == Illumination::Sky::Clear ? "clear" : "overcast"},
+              {"scale", sky.scale},
+              {"zenith", json::array({sky.zenith[0], sky.zenith[1], sky.zenith[2]})},
+              {"horizon", json::array({sky.horizon[0], sky.horizon[1], sky.horizon[2]})}};
+  s["ground"] = {{"z", scene.bunch_min().z() - look.ground_below},
+                 {"reflectance", jc(look.ground_reflectance)},
+                 {"half_size", 200.0}};
+  // Instance ids: berries 1..B, then the bunch's stems, the scene's leaves and canes;
+  // id 0 (not labelled) for the row copies and the ground. id -> Part for the labels.
+  std::vector<Part> part_of_id{Part::None};
+  const Bunch& bunch = scene.bunch();
+  json berries = json::array();
+  Material bm;
+  for (const Berry& b : bunch.berries) {
+    bm = berry_material(look, b.colour);
+    berries.push_back({{"centre", j3(b.centre)},
+                       {"radius", b.radius},
+                       {"albedo", jc(bm.albedo)},
+                       {"transmittance", jc(bm.transmittance)},
+                       {"id", static_cast<int>(part_of_id.size())}});
+    part_of_id.push_back(Part::Berry);
+  }
+  s["berries"] = berries;
+  s["berry_material"] = {{"f0", bm.specular}, {"alpha", bm.roughness}};
+  if (bunch.berries.empty()) s["berry_material"] = {{"f0", look.skin_f0}, {"alpha", look.skin_roughness}};
+  json cylinders = json::array();
+  const auto cylinder = [&](const Stem& st, const Rgb& colour, bool labelled) {
+    cylinders.push_back({{"start", j3(st.start)},
+                         {"end", j3(st.end)},
+                         {"radius", st.radius},
+                         {"albedo", jc(colour)},
+                         {"id", labelled ? static_cast<int>(part_of_id.size()) : 0}});
+    if (labelled) part_of_id.push_back(st.part);
+  };
+  for (const Stem& st : bunch.stems) cylinder(st, bunch.stem_colour, true);
+  const Foliage& f = scene.foliage();
+  for (const Stem& st : f.canes) cylinder(st, f.cane_colour, true);
+  const RowCopies rows = row_copies(f, look);
+  for (const Stem& st : rows.foliage.canes) cylinder(st, f.cane_colour, false);
+  s["cylinders"] = cylinders;
+
+  // The leaf atlas: one square cell per leaf of the scene, the leaf's own plane mapped
+  // onto it, each texel the appearance model's albedo and transmittance there.
+  const LeafFans fans = leaf_fans(f);
+  const int n_leaves = static_cast<int>(fans.centre.size());
+  const int grid = std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n_leaves)))));
+  const int T = cycles.leaf_texels, A = grid * T;
+  double leaf_mean = 0;
+  for (const Rgb& c : f.triangle_colour) leaf_mean += lum(c);
+  leaf_mean = f.triangle_colour.empty() ? 1.0 : std::max(1e-6, leaf_mean / static_cast<double>(f.triangle_colour.size()));
+  struct Frame {
+    Vec3 c, e1, e2, n, tip;
+    double half = 0;
+    double shade = 1;
+  };
+  std::vector<Frame> frames(static_cast<std::size_t>(n_leaves));
+  for (std::size_t t = 0; t < f.triangles.size(); ++t) {
+    const auto& tri = f.triangles[t];
+    const int leaf = fans.leaf_of_vertex[static_cast<std::size_t>(tri[0])];
+    Frame& fr = frames[static_cast<std::size_t>(leaf)];
+    if (fr.half > 0) continue;
+    fr.c = f.vertices[static_cast<std::size_t>(tri[0])];
+    fr.tip = f.vertices[static_cast<std::size_t>(tri[0]) + 1];
+    fr.n = (f.vertices[static_cast<std::size_t>(tri[1])] - fr.c).cross(f.vertices[static_cast<std::size_t>(tri[2])] - fr.c).normalized();
+    fr.e1 = (fr.tip - fr.c).normalized();
+    fr.e2 = fr.n.cross(fr.e1).normalized();
+    fr.shade = lum(f.triangle_colour[t]) / leaf_mean;
+    fr.half = 1e-9;
+  }
+  for (std::size_t v = 0; v < f.vertices.size(); ++v) {
+    const int leaf = fans.leaf_of_vertex[v];
+    if (leaf < 0) continue;
+    Frame& fr = frames[static_cast<std::size_t>(leaf)];
+    fr.half = std::max(fr.half, (f.vertices[v] - fr.c).norm() * 1.02);
+  }
+  // uv of a scene vertex (Blender's v runs up the image).
+  std::vector<std::array<double, 2>> uv(f.vertices.size(), {0.0, 0.0});
+  for (std::size_t v = 0; v < f.vertices.size(); ++v) {
+    const int leaf = fans.leaf_of_vertex[v];
+    if (leaf < 0) continue;
+    const Frame& fr = frames[static_cast<std::size_t>(leaf)];
+    const Vec3 d = f.vertices[v] - fr.c;
+    const double uc = d.dot(fr.e1) / (2 * fr.half) + 0.5, vc = d.dot(fr.e2) / (2 * fr.half) + 0.5;
+    const int col = leaf % grid, row = leaf / grid;
+    uv[v] = {(col + uc) / grid, (grid - row - 1 + vc) / grid};
+  }
+  if (n_leaves > 0) {
+    std::vector<unsigned char> albedo(static_cast<std::size_t>(A) * A * 6, 0), trans(albedo.size(), 0);
+    const auto put = [](std::vector<unsigned char>& img, std::size_t at, float value) {
+      const auto q = static_cast<std::uint16_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 65535));
+      img[at] = static_cast<unsigned char>(q >> 8);
+      img[at + 1] = static_cast<unsigned char>(q & 0xff);
+    };
+    for (int leaf = 0; leaf < n_leaves; ++leaf) {
+      const Frame& fr = frames[static_cast<std::size_t>(leaf)];
+      const int col = leaf % grid, row = leaf / grid;
+      for (int y = 0; y < T; ++y) {
+        for (int x = 0; x < T; ++x) {
+          const double uc = (x + 0.5) / T, vc = 1 - (y + 0.5) / T;
+          const Vec3 p = fr.c + (uc - 0.5) * 2 * fr.half * fr.e1 + (vc - 0.5) * 2 * fr.half * fr.e2;
+          const Material m = leaf_material(look, p, fr.c, fr.tip, fr.n, fr.shade, true);
+          const std::size_t at = 6 * (static_cast<std::size_t>(row * T + y) * A + static_cast<std::size_t>(col * T + x));
+          put(albedo, at, m.albedo.r), put(albedo, at + 2, m.albedo.g), put(albedo, at + 4, m.albedo.b);
+          put(trans, at, m.transmittance.r), put(trans, at + 2, m.transmittance.g), put(trans, at + 4, m.transmittance.b);
+        }
+      }
+    }
+    write_file(work / "leaf_albedo.png", png_bytes(A, A, 16, 2, albedo));
+    write_file(work / "leaf_transmittance.png", png_bytes(A, A, 16, 2, trans));
+  }
+  const AppearanceParams& a = look;
+  const Material upper = leaf_material(a, Vec3::Zero(), Vec3::Zero(), Vec3::UnitX(), Vec3::UnitZ(), 1.0, true);
+  s["leaf_material"] = {{"albedo_png", "leaf_albedo.png"},
+                        {"transmittance_png", "leaf_transmittance.png"},
+                        {"back", a.leaf_back},
+                        {"f0", upper.specular},
+                        {"alpha", upper.roughness}};
+  json leaves = json::array();
+  const auto mesh = [&](const Foliage& g, std::size_t source_vertices, int id) {
+    json m = {{"vertices", json::array()}, {"uv", json::array()}, {"triangles", json::array()}, {"id", id}};
+    for (std::size_t v = 0; v < g.vertices.size(); ++v) {
+      m["vertices"].push_back(j3(g.vertices[v]));
+      const auto& t = uv[v % source_vertices];
+      m["uv"].push_back(json::array({t[0], t[1]}));
+    }
+    for (const auto& t : g.triangles) m["triangles"].push_back(json::array({t[0], t[1], t[2]}));
+    leaves.push_back(std::move(m));
+  };
+  if (!f.triangles.empty()) {
+    mesh(f, f.vertices.size(), static_cast<int>(part_of_id.size()));
+    part_of_id.push_back(Part::Leaf);
+    if (!rows.foliage.triangles.empty()) mesh(rows.foliage, rows.source_vertices, 0);
+  }
+  s["leaves"] = leaves;
+  s["outputs"] = {{"colour", "colour.f32"}, {"index", "index.i32"}};
+  write_file(work / "scene.json", s.dump());
+  std::filesystem::remove(work / "colour.f32");
+  std::filesystem::remove(work / "index.i32");
+
+  ProgramLimits limits;
+  limits.sandbox = ProgramLimits::Sandbox::None;  // Blender is a trusted program; the limits and cleanup stay
+  limits.cpu_seconds = cycles.time_limit * (cycles.threads + 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  ConfinedProgram blender_run({blender, "-b", "--factory-startup", "-noaudio", "-P", GRAPEBENCH_CYCLES_SCRIPT, "--",
+                               (work / "scene.json").string()},
+                              work, limits);
+  const auto end = blender_run.wait(t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                              std::chrono::duration<double>(cycles.time_limit)));
+  CyclesRenderResult out;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (end == ConfinedProgram::End::TimedOut) {
+    char why[160];
+    std::snprintf(why, sizeof why, "cycles: Blender stopped past its time limit of %g s (cycles.time_limit)", cycles.time_limit);
+    throw std::runtime_error(why);
+  }
+  if (end != ConfinedProgram::End::Exited || !blender_run.failure().empty())
+    throw std::runtime_error("cycles: Blender failed (" + blender_run.failure() + "): " + blender_run.error_tail());
+  const std::size_t n = static_cast<std::size_t>(W) * H;
+  out.linear = read_raw<float>(work / "colour.f32", 3 * n);
+  for (float& v : out.linear) {
+    if (!std::isfinite(v) || v < 0) throw std::runtime_error("cycles: colour.f32 holds a value that is not a radiance");
+    v = static_cast<float>(v * M_PI);
+  }
+  const std::vector<std::int32_t> index = read_raw<std::int32_t>(work / "index.i32", n);
+  out.part.assign(n, static_cast<std::uint8_t>(Part::None));
+  for (std::size_t i = 0; i < n; ++i) {
+    if (index[i] < 0 || static_cast<std::size_t>(index[i]) >= part_of_id.size())
+      throw std::runtime_error("cycles: index.i32 holds id " + std::to_string(index[i]) + " at pixel " + std::to_string(i) +
+                               ", outside [0, " + std::to_string(part_of_id.size() - 1) + "]");
+    out.part[i] = static_cast<std::uint8_t>(part_of_id[static_cast<std::size_t>(index[i])]);
+  }
+  return out;
+}
+
+const ParamTable<CyclesParams>& cycles_param_table() {
+  using P = CyclesParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .integer("samples", "count", &P::samples, 1, 4096,
+                   "path samples per pixel (Debian's Blender has no denoiser: noise falls as 1/sqrt(samples))")
+          .integer("threads", "count", &P::threads, 1, 256, "Cycles' render threads")
+          .real("time_limit", "s", &P::time_limit, 1, 86400, "per image, Blender's start included; past it, stopped")
+          .integer("leaf_texels", "count", &P::leaf_texels, 16, 2048,
+                   "texels per leaf side of the baked leaf atlas (veins 0.8 mm wide need about 0.3 mm texels)");
+  return table;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,45 @@
+// The physically based reference: the same scene (berries as spheres, stems and canes
+// as capped cylinders, the leaves with their texture and veins baked into an atlas,
+// the row copies, ground, sun and sky, the camera with its thin lens) exported to
+// Blender and rendered by Cycles, headless, through sensors/render/cycles_scene.py.
+// Path tracing with every bounce; the materials are the appearance model's
+// (sensors/render/appearance.h). Blender runs under a time limit and is stopped with
+// everything it started when it ends or overruns (synth/confined_program.h).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "sensors/camera.h"
+#include "sensors/ray_scene.h"
+#include "sensors/render/appearance.h"
+#include "sensors/render/develop_image.h"
+#include "sensors/render/illumination.h"
+#include "synth/param_table.h"
+
+namespace grapebench {
+
+struct CyclesParams {
+  int samples = 64;           // path samples per pixel, [1, 4096]
+  int threads = 2;            // Cycles' render threads, [1, 256]
+  double time_limit = 600;    // s per image, Blender's start included, [1, 86400]
+  int leaf_texels = 256;      // texels per leaf side in the leaf atlas, [16, 2048]
+};
+const ParamTable<CyclesParams>& cycles_param_table();
+
+struct CyclesRenderResult {
+  std::vector<float> linear;      // H x W x 3, radiance times pi (as ray_render's)
+  std::vector<std::uint8_t> part; // H x W, the Part of the object seen (Cycles' object-index pass); None elsewhere
+  double seconds = 0;             // Blender's wall time, start-up included
+};
+
+// Blender is `blender` from PATH, or $GRAPEBENCH_BLENDER. `work` is a folder for the
+// exported scene and Blender's outputs (created; left in place). Throws InputError when
+// Blender is missing (naming the Debian package) and std::runtime_error when it fails
+// or overruns, with its reason and the tail of its output.
+CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const Illumination& light,
+                                 const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
+                                 const CyclesParams& cycles, std::uint64_t seed, const std::filesystem::path& work);
+
+}  // namespace grapebench

@@ -1,0 +1,453 @@
+#include "sensors/render/ray_render.h"
+
+#include <atomic>
+#include <cmath>
+#include <optional>
+
+#include "sensors/render/row_copies.h"
+#include "sensors/sensor.h"
+#include "synth/rng.h"
+
+namespace grapebench {
+
+namespace {
+
+using C3 = Eigen::Array3d;
+C3 c3(const Rgb& c) { return {c.r, c.g, c.b}; }
+double luminance(const C3& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+// An orthonormal frame about a unit vector.
+void frame(const Vec3& n, Vec3& t, Vec3& b) {
+  t = n.unitOrthogonal();
+  b = n.cross(t);
+}
+Vec3 cosine_direction(const Vec3& n, double u1, double u2) {
+  Vec3 t, b;
+  frame(n, t, b);
+  const double r = std::sqrt(u1), phi = 2 * M_PI * u2;
+  return (r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0, 1 - u1)) * n).normalized();
+}
+Vec3 cone_direction(const Vec3& axis, double cos_max, double u1, double u2) {
+  Vec3 t, b;
+  frame(axis, t, b);
+  const double c = 1 - u1 * (1 - cos_max), s = std::sqrt(std::max(0.0, 1 - c * c)), phi = 2 * M_PI * u2;
+  return (s * std::cos(phi) * t + s * std::sin(phi) * b + c * axis).normalized();
+}
+
+// GGX microfacet lobe with Smith-Schlick shadowing and Schlick's Fresnel (Walter et al.
+// 2007; Karis 2013): BRDF value for light from wi seen from wo, both unit, about n.
+double ggx(const Vec3& n, const Vec3& wi, const Vec3& wo, double alpha, double f0) {
+  const double ni = n.dot(wi), no = n.dot(wo);
+  if (ni <= 0 || no <= 0 || f0 <= 0) return 0;
+  const Vec3 h = (wi + wo).normalized();
+  const double nh = std::max(0.0, n.dot(h)), a2 = alpha * alpha;
+  const double dd = nh * nh * (a2 - 1) + 1;
+  const double D = a2 / (M_PI * dd * dd);
+  const double k = alpha / 2;
+  const double G = ni / (ni * (1 - k) + k) * no / (no * (1 - k) + k);
+  const double F = f0 + (1 - f0) * std::pow(1 - std::max(0.0, wo.dot(h)), 5);
+  return D * G * F / (4 * ni * no);
+}
+
+// What one camera ray (one sample of a pixel) saw and how it is lit. The pixel's
+// radiance is direct + albedo * sky_front + transmittance * sky_back: the sky rays'
+// incoming radiance is kept apart so that it can be filtered across pixels.
+struct Sample {
+  std::uint64_t key = 0;  // 0 sky, 1 ground, else the object (part and instance): edges are where it changes
+  float depth = 0;        // m along the optical axis (0: sky)
+  Vec3 normal = Vec3::Zero();
+  C3 direct = C3::Zero(), sky_front = C3::Zero(), sky_back = C3::Zero();
+  C3 albedo = C3::Zero(), trans = C3::Zero();
+};
+
+// Per-thread buffers of a batch.
+struct Scratch {
+  std::vector<Hit> hits, sky_hits;
+  std::vector<Vec3> from, to, mfrom, mto;
+  std::vector<char> blocked, mblocked;
+  std::vector<Ray> sky_rays;
+  std::vector<Material> mat;
+  std::vector<int> sun_of, front_of, back_of, mir_of;
+  std::vector<Vec3> sun_used, mir_dir;
+};
+
+}  // namespace
+
+RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illumination& light,
+                           const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
+                           std::uint64_t seed) {
+  const int W = cam.K.width, H = cam.K.height, S = camera.samples;
+  const std::size_t npix = static_cast<std::size_t>(W) * H;
+  // One Embree scene: the bunch, its foliage and the row copies after it (a leaf
+  // triangle past the scene's own is a copy), so every ray is cast once.
+  const Foliage& src = scene.foliage();
+  const RowCopies rows = row_copies(src, look);
+  std::optional<RayScene> merged;
+  if (!rows.foliage.empty()) {
+    Foliage all = src;
+    const int base = static_cast<int>(all.vertices.size());
+    all.vertices.insert(all.vertices.end(), rows.foliage.vertices.begin(), rows.foliage.vertices.end());
+    for (const auto& t : rows.foliage.triangles) all.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+    all.triangle_colour.insert(all.triangle_colour.end(), rows.foliage.triangle_colour.begin(),
+                               rows.foliage.triangle_colour.end());
+    all.canes.insert(all.canes.end(), rows.foliage.canes.begin(), rows.foliage.canes.end());
+    merged.emplace(scene.bunch(), std::nullopt, all);
+  }
+  const RayScene& rs = merged ? *merged : scene;
+  const Foliage& fol = rs.foliage();
+  const std::size_t src_tri = src.triangles.size();
+
+  const double ground_z = scene.bunch_min().z() - look.ground_below;
+  const SkyModel sky(light);
+  const Vec3 sun_dir = light.sun_direction.normalized();
+  const double sun_cos_max = std::cos(0.5 * std::max(light.sun_size_deg, 1e-3) * M_PI / 180);
+  const C3 sun_rgb = light.sun * c3(light.sun_colour);
+  double leaf_mean = 0;
+  for (const Rgb& c : src.triangle_colour) leaf_mean += luminance(c3(c));
+  leaf_mean = src.triangle_colour.empty() ? 1.0 : std::max(1e-6, leaf_mean / static_cast<double>(src_tri));
+
+  const auto material = [&](const Hit& h) -> Material {
+    switch (h.part) {
+      case Part::Berry:
+        return berry_material(look, h.colour);
+      case Part::Leaf: {
+        // A copy's point is read on the scene's own leaf (the same barycentric
+        // coordinates), so every copy of a leaf carries the same texture and veins.
+        const auto& tri = fol.triangles[static_cast<std::size_t>(h.primitive)];
+        const auto at = [&](int k) -> const Vec3& { return fol.vertices[static_cast<std::size_t>(tri[k])]; };
+        const Vec3 wn = (at(1) - at(0)).cross(at(2) - at(0));
+        const bool upper = wn.dot(h.normal) > 0;
+        const auto& st = src.triangles[static_cast<std::size_t>(h.primitive) % src_tri];
+        const auto sv = [&](int k) -> const Vec3& { return src.vertices[static_cast<std::size_t>(st[k])]; };
+        Vec3 p = h.point;
+        if (static_cast<std::size_t>(h.primitive) >= src_tri) {
+          const Vec3 e0 = at(1) - at(0), e1 = at(2) - at(0), d = h.point - at(0);
+          const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = d.dot(e0), d21 = d.dot(e1);
+          const double den = d00 * d11 - d01 * d01;
+          const double b1 = den != 0 ? (d11 * d20 - d01 * d21) / den : 0, b2 = den != 0 ? (d00 * d21 - d01 * d20) / den : 0;
+          p = sv(0) + b1 * (sv(1) - sv(0)) + b2 * (sv(2) - sv(0));
+        }
+        const Vec3 sn = (sv(1) - sv(0)).cross(sv(2) - sv(0)).normalized();
+        return leaf_material(look, p, sv(0), src.vertices[static_cast<std::size_t>(st[0]) + 1], sn,
+                             luminance(c3(h.colour)) / leaf_mean, upper);
+      }
+      default:
+        return wood_material(look, h.point, h.colour);
+    }
+  };
+  // What an edge is made of: the part and its instance (a berry, a stem or cane, a
+  // leaf by its fan's centre vertex).
+  const auto object_key = [&](const Hit& h) {
+    std::uint64_t inst = static_cast<std::uint64_t>(h.primitive + 1);
+    if (h.part == Part::Berry) inst = static_cast<std::uint64_t>(h.berry + 1);
+    if (h.part == Part::Leaf) inst = static_cast<std::uint64_t>(fol.triangles[static_cast<std::size_t>(h.primitive)][0] + 1);
+    return 2 + (static_cast<std::uint64_t>(h.part) << 40) + inst;
+  };
+  // Radiance leaving a surface met by a sky ray (the one bounce): the sun where a
+  // shadow ray from it reaches the sun (`sunlit`), and half the sky without a test.
+  const auto bounce = [&](const Hit& h, bool sunlit) -> C3 {
+    const Material m = material(h);
+    const double cs = sunlit ? h.normal.dot(sun_dir) : 0.0;
+    C3 l = c3(m.albedo) * (0.5 * light.sky_irradiance + std::max(0.0, cs) * sun_rgb) / M_PI;
+    l += c3(m.transmittance) * std::max(0.0, -cs) * sun_rgb / M_PI;
+    return l;
+  };
+  const auto ground_radiance = [&](bool sunlit) -> C3 {
+    return c3(look.ground_reflectance) * (light.sky_irradiance + (sunlit ? std::max(0.0, sun_dir.z()) : 0.0) * sun_rgb) / M_PI;
+  };
+  const std::uint64_t s_pix = derive_seed(seed, 11), s_sun = derive_seed(seed, 13), s_sky = derive_seed(seed, 14),
+                      s_mir = derive_seed(seed, 15);
+  const Vec3 optical_axis = cam.pose.linear().col(2);
+
+  // Shades a batch of camera rays; `ids` number the samples for the hashed draws.
+  const auto shade = [&](const std::vector<Ray>& rays, const std::vector<std::uint64_t>& ids, std::vector<Sample>& out,
+                         Scratch& z) {
+    const std::size_t n = rays.size();
+    std::uint64_t cast = n;
+    rs.intersect(rays, z.hits);
+    out.assign(n, Sample{});
+    z.mat.resize(n);
+    z.sun_of.assign(n, -1), z.front_of.assign(n, -1), z.back_of.assign(n, -1), z.mir_of.assign(n, -1);
+    z.sun_used.resize(n), z.mir_dir.resize(n);
+    z.from.clear(), z.to.clear(), z.sky_rays.clear(), z.mfrom.clear(), z.mto.clear();
+    std::vector<char> ground(n, 0);
+    std::vector<Vec3> point(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Ray& r = rays[i];
+      const Hit& h = z.hits[i];
+      Sample& s = out[i];
+      const std::uint64_t id = ids[i];
+      Vec3 p, nrm;
+      bool transmits = false;
+      if (h.valid()) {
+        z.mat[i] = material(h);
+        p = h.point;
+        nrm = h.normal;
+        s.key = object_key(h);
+        s.albedo = c3(z.mat[i].albedo);
+        s.trans = c3(z.mat[i].transmittance);
+        transmits = s.trans.sum() > 0;
+      } else if (r.direction.z() < 0 && (ground_z - r.origin.z()) / r.direction.z() > 0) {
+        p = r.origin + (ground_z - r.origin.z()) / r.direction.z() * r.direction;
+        nrm = Vec3::UnitZ();
+        s.key = 1;
+        ground[i] = 1;
+      } else {
+        s.direct = sky.radiance(r.direction);
+        if (r.direction.dot(sun_dir) >= sun_cos_max) s.direct += sun_rgb / (2 * M_PI * (1 - sun_cos_max));  // the disc
+        continue;
+      }
+      point[i] = p;
+      s.normal = nrm;
+      s.depth = static_cast<float>((p - r.origin).dot(optical_axis));
+      // The sun: towards a point of its disc, from the lit side (from the far side for
+      // light through leaves and berries).
+      const Vec3 sd = cone_direction(sun_dir, sun_cos_max, hashed_uniform(s_sun, 2 * id), hashed_uniform(s_sun, 2 * id + 1));
+      z.sun_used[i] = sd;
+      const double cs = nrm.dot(sd);
+      if (light.sun > 0 && (cs > 0 || (transmits && cs < 0))) {
+        Vec3 start = p + (cs > 0 ? 1e-4 : -1e-4) * nrm;
+        if (cs < 0 && h.part == Part::Berry && h.berry >= 0) {
+          const Berry& b = scene.bunch().berries[static_cast<std::size_t>(h.berry)];
+          start = b.centre + (b.radius + 1e-4) * sd;  // the berry's sunlit side
+        }
+        z.sun_of[i] = static_cast<int>(z.from.size());
+        z.from.push_back(start);
+        z.to.push_back(start + 50.0 * sd);
+      }
+      if (ground[i]) continue;
+      // Sky rays, cosine-weighted about each face that reflects (front) or transmits (back).
+      z.front_of[i] = static_cast<int>(z.sky_rays.size());
+      z.sky_rays.push_back({p + 1e-4 * nrm, cosine_direction(nrm, hashed_uniform(s_sky, 4 * id), hashed_uniform(s_sky, 4 * id + 1))});
+      if (transmits) {
+        // The far face: a leaf's other side; a berry's antipode (what the flesh
+        // passes on to this point), sampled about the opposite normal.
+        Vec3 back_from = p - 1e-4 * nrm;
+        if (h.part == Part::Berry && h.berry >= 0) {
+          const Berry& b = scene.bunch().berries[static_cast<std::size_t>(h.berry)];
+          back_from = b.centre - (b.radius + 1e-4) * nrm;
+        }
+        z.back_of[i] = static_cast<int>(z.sky_rays.size());
+        z.sky_rays.push_back(
+            {back_from, cosine_direction(-nrm, hashed_uniform(s_sky, 4 * id + 2), hashed_uniform(s_sky, 4 * id + 3))});
+      }
+      // A mirror ray of glossy surfaces, blurred by the lobe's roughness (a cone of
+      // half-angle about alpha): the sky or ground it sees, or nothing.
+      if (z.mat[i].specular > 0) {
+        const Vec3 wo = -r.direction;
+        Vec3 d = 2 * nrm.dot(wo) * nrm - wo;
+        d = cone_direction(d.normalized(), std::cos(std::min(1.2, z.mat[i].roughness)), hashed_uniform(s_mir, 2 * id),
+                           hashed_uniform(s_mir, 2 * id + 1));
+        if (d.dot(nrm) > 0) {
+          z.mir_of[i] = static_cast<int>(z.mfrom.size());
+          z.mir_dir[i] = d;
+          z.mfrom.push_back(p + 1e-4 * nrm);
+          z.mto.push_back(p + 50.0 * d);
+        }
+      }
+    }
+    rs.occluded(z.from, z.to, z.blocked);
+    rs.intersect(z.sky_rays, z.sky_hits);
+    rs.occluded(z.mfrom, z.mto, z.mblocked);
+    cast += z.from.size() + z.sky_rays.size() + z.mfrom.size();
+    // Whether the sun reaches what the sky rays met (from the face it turns to the sun).
+    std::vector<Vec3> bfrom, bto;
+    std::vector<int> bounce_of(z.sky_rays.size(), -1);
+    for (std::size_t k = 0; k < z.sky_rays.size(); ++k) {
+      const Hit& a = z.sky_hits[k];
+      if (!a.valid() || light.sun <= 0) continue;
+      const double cs = a.normal.dot(sun_dir);
+      const bool transmits = a.part == Part::Leaf || a.part == Part::Berry;
+      if (cs <= 0 && !transmits) continue;
+      Vec3 start = a.point + (cs > 0 ? 1e-4 : -1e-4) * a.normal;
+      if (cs <= 0 && a.part == Part::Berry && a.berry >= 0) {
+        const Berry& b = scene.bunch().berries[static_cast<std::size_t>(a.berry)];
+        start = b.centre + (b.radius + 1e-4) * sun_dir;  // the berry's sunlit side
+      }
+      bounce_of[k] = static_cast<int>(bfrom.size());
+      bfrom.push_back(start);
+      bto.push_back(start + 50.0 * sun_dir);
+    }
+    std::vector<char> bblocked;
+    rs.occluded(bfrom, bto, bblocked);
+    cast += bfrom.size();
+    const auto incoming = [&](int k) -> C3 {
+      const Ray& sr = z.sky_rays[static_cast<std::size_t>(k)];
+      const Hit& a = z.sky_hits[static_cast<std::size_t>(k)];
+      const int b = bounce_of[static_cast<std::size_t>(k)];
+      if (a.valid()) return bounce(a, b >= 0 && !bblocked[static_cast<std::size_t>(b)]);
+      if (sr.direction.z() < 0) return ground_radiance(true);
+      return sky.radiance(sr.direction);
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      Sample& s = out[i];
+      if (s.key == 0) continue;
+      const bool lit = z.sun_of[i] >= 0 && !z.blocked[static_cast<std::size_t>(z.sun_of[i])];
+      if (ground[i]) {
+        s.direct = ground_radiance(lit);
+        continue;
+      }
+      const Vec3 wo = -rays[i].direction;
+      if (lit) {
+        const Vec3& sd = z.sun_used[i];
+        const double cs = s.normal.dot(sd);
+        if (cs > 0) s.direct += (s.albedo / M_PI + ggx(s.normal, sd, wo, z.mat[i].roughness, z.mat[i].specular)) * cs * sun_rgb;
+        else s.direct += s.trans / M_PI * (-cs) * sun_rgb;
+      }
+      // Cosine-weighted sampling: the irradiance estimate is pi L, the reflected
+      // radiance rho / pi times that.
+      if (z.front_of[i] >= 0) s.sky_front = incoming(z.front_of[i]);
+      if (z.back_of[i] >= 0) s.sky_back = incoming(z.back_of[i]);
+      if (z.mir_of[i] >= 0 && !z.mblocked[static_cast<std::size_t>(z.mir_of[i])]) {
+        const Vec3& d = z.mir_dir[i];
+        const double f = z.mat[i].specular + (1 - z.mat[i].specular) * std::pow(1 - std::max(0.0, s.normal.dot(wo)), 5);
+        s.direct += f * (d.z() < 0 ? ground_radiance(true) : sky.radiance(d));
+      }
+    }
+    return cast;
+  };
+
+  // Pass 1: one ray through each pixel's centre (the exact labels' ray).
+  std::vector<Sample> centre(npix);
+  std::atomic<std::uint64_t> rays{0};
+  const PixelRays pr = cam.pixel_rays();
+  for_rows(H, [&](int r0, int r1) {
+    Scratch z;
+    std::vector<Ray> batch;
+    std::vector<std::uint64_t> ids;
+    std::vector<Sample> got;
+    for (int v = r0; v < r1; ++v) {
+      batch.clear(), ids.clear();
+      for (int u = 0; u < W; ++u) {
+        batch.push_back(pr(u + 0.5, v + 0.5));
+        ids.push_back((static_cast<std::uint64_t>(v) * W + u) * 128);
+      }
+      rays += shade(batch, ids, got, z);
+      std::copy(got.begin(), got.end(), centre.begin() + static_cast<long>(static_cast<std::size_t>(v) * W));
+    }
+  });
+  // Pass 2: pixels where what is seen changes within the 3 x 3 neighbourhood are
+  // anti-aliased with samples^2 more rays, stratified and jittered over the pixel.
+  std::vector<C3> direct(npix), albedo(npix), trans(npix), front(npix), back(npix);
+  for_rows(H, [&](int r0, int r1) {
+    Scratch z;
+    std::vector<Ray> batch;
+    std::vector<std::uint64_t> ids;
+    std::vector<Sample> got;
+    for (int v = r0; v < r1; ++v) {
+      batch.clear(), ids.clear();
+      std::vector<int> owner;
+      for (int u = 0; u < W; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * W + u;
+        bool edge = false;
+        for (int dv = -1; dv <= 1 && !edge; ++dv)
+          for (int du = -1; du <= 1 && !edge; ++du) {
+            const int uu = u + du, vv = v + dv;
+            if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
+            edge = centre[static_cast<std::size_t>(vv) * W + uu].key != centre[i].key;
+          }
+        if (!edge || S < 2) continue;
+        for (int s = 0; s < S * S; ++s) {
+          const std::uint64_t id = i * 128 + 1 + static_cast<std::uint64_t>(s);
+          batch.push_back(pr(u + (s % S + hashed_uniform(s_pix, 2 * id)) / S, v + (s / S + hashed_uniform(s_pix, 2 * id + 1)) / S));
+          ids.push_back(id);
+          owner.push_back(u);
+        }
+      }
+      if (!batch.empty()) rays += shade(batch, ids, got, z);
+      // Every pixel's mean over its samples (the centre, and the extra ones at edges).
+      std::size_t k = 0;
+      for (int u = 0; u < W; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * W + u;
+        const Sample& c = centre[i];
+        C3 d = c.direct, a = c.albedo, t = c.trans, f = c.sky_front, b = c.sky_back;
+        double m = 1;
+        for (; k < owner.size() && owner[k] == u; ++k) {
+          const Sample& g = got[k];
+          d += g.direct, a += g.albedo, t += g.trans, f += g.sky_front, b += g.sky_back;
+          m += 1;
+        }
+        direct[i] = d / m, albedo[i] = a / m, trans[i] = t / m, front[i] = f / m, back[i] = b / m;
+      }
+    }
+  });
+  // Pass 3: the sky rays' incoming radiance (one ray a pixel: noisy) filtered over 5 x 5
+  // pixels of the same part and instance class, similar depth and normal (a joint
+  // bilateral filter, as real-time ambient occlusion is denoised), then the image.
+  RayRenderResult out;
+  out.linear.assign(3 * npix, 0.0f);
+  for_rows(H, [&](int r0, int r1) {
+    for (int v = r0; v < r1; ++v) {
+      for (int u = 0; u < W; ++u) {
+        const std::size_t i = static_cast<std::size_t>(v) * W + u;
+        const Sample& c = centre[i];
+        C3 f = front[i], b = back[i];
+        if (c.key >= 2) {
+          const std::uint64_t part = c.key >> 40;
+          C3 sf = C3::Zero(), sb = C3::Zero();
+          double sw = 0;
+          for (int dv = -2; dv <= 2; ++dv)
+            for (int du = -2; du <= 2; ++du) {
+              const int uu = u + du, vv = v + dv;
+              if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
+              const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
+              const Sample& o = centre[j];
+              if (o.key < 2 || (o.key >> 40) != part) continue;
+              const double nd = std::max(0.0, c.normal.dot(o.normal)), n2 = nd * nd, n4 = n2 * n2;
+              const double dz = (o.depth - c.depth) / (0.01 * c.depth + 1e-4);
+              if (dz * dz > 9) continue;  // beyond 3 sd: no weight worth an exp
+              const double w = n4 * n4 * std::exp(-0.5 * dz * dz);
+              sf += w * front[j], sb += w * back[j], sw += w;
+            }
+          if (sw > 0) f = sf / sw, b = sb / sw;
+        }
+        const C3 px = M_PI * (direct[i] + albedo[i] * f + trans[i] * b);  // radiance times pi
+        for (int ch = 0; ch < 3; ++ch) out.linear[3 * i + ch] = static_cast<float>(px[ch]);
+      }
+    }
+  });
+  // Pass 4: defocus of a thin lens at f_number focused at focus_distance: each pixel
+  // spread over its circle of confusion, c = (f / N) f / (s - f) |z - s| / z on the
+  // sensor (f / fx per pixel), gathered (a pixel takes the neighbours whose circle
+  // covers it, each weighted by one over its circle's area); radius capped at 8 px.
+  if (camera.f_number > 0) {
+    const double f = focal_length, s = camera.focus_distance > 0
+                                           ? camera.focus_distance
+                                           : std::max(0.05, (cam.pose.inverse() * scene.bunch_centre()).z());
+    const double k = (f / camera.f_number) * cam.K.fx / std::max(s - f, 1e-6);  // c in px = k |z - s| / z
+    std::vector<float> radius(npix);
+    float rmax = 0;
+    for (std::size_t i = 0; i < npix; ++i) {
+      const double z = centre[i].depth;
+      radius[i] = static_cast<float>(std::min(8.0, 0.5 * (z > 0 ? k * std::abs(z - s) / z : k)));
+      rmax = std::max(rmax, radius[i]);
+    }
+    if (rmax >= 0.5f) {
+      const std::vector<float> sharp = out.linear;
+      const int R = static_cast<int>(std::ceil(rmax));
+      for_rows(H, [&](int r0, int r1) {
+        for (int v = r0; v < r1; ++v)
+          for (int u = 0; u < W; ++u) {
+            double acc[3] = {0, 0, 0}, sw = 0;
+            for (int dv = -R; dv <= R; ++dv)
+              for (int du = -R; du <= R; ++du) {
+                const int uu = u + du, vv = v + dv;
+                if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
+                const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
+                const double r = std::max(0.5f, radius[j]);
+                if (du * du + dv * dv > r * r) continue;
+                const double w = 1 / (r * r);
+                for (int ch = 0; ch < 3; ++ch) acc[ch] += w * sharp[3 * j + ch];
+                sw += w;
+              }
+            const std::size_t i = static_cast<std::size_t>(v) * W + u;
+            for (int ch = 0; ch < 3; ++ch) out.linear[3 * i + ch] = static_cast<float>(acc[ch] / sw);
+          }
+      });
+    }
+  }
+  out.rays = rays;
+  return out;
+}
+
+}  // namespace grapebench

@@ -1,0 +1,149 @@
+// The Cycles reference: its object-index pass against the exact labels (IoU per class),
+// its radiometry against the fast renderer's closed form, its determinism across
+// thread counts; and the failures around Blender (missing, crashing, overrunning,
+// answering garbage) named, with no process left. The tests that need Blender skip
+// with the reason where it is not installed.
+#include "sensors/render/cycles_render.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+
+#include "sensors/ideal.h"
+#include "sensors/render/ray_render.h"
+#include "synth/confined_program.h"
+#include "synth/foliage.h"
+#include "synth/generate.h"
+#include "synth/temp_folder.h"
+
+namespace grapebench {
+namespace {
+
+struct Fixture {
+  Bunch bunch = generate_bunch(preset("table-red"), 4);
+  Foliage foliage = generate_foliage(FoliageParams{}, bunch, 9);
+  RayScene scene{bunch, std::nullopt, foliage};
+  Camera cam;
+  Illumination light;
+  AppearanceParams look;
+  PhotoCameraParams camera;
+  Fixture(int w, int h) {
+    const Vec3 c = scene.bunch_centre();
+    Intrinsics k;
+    k.width = w;
+    k.height = h;
+    k.fx = k.fy = 1000.0 * w / 800;  // seed 001's field of view
+    k.cx = 0.5 * w;
+    k.cy = 0.5 * h;
+    cam = Camera{k, look_at(c - Vec3(0, 0.45, 0), c)};
+    light.sun_direction = Vec3(0.3, -0.6, 0.7).normalized();
+    camera.f_number = 0;
+  }
+};
+
+// Runs `body` with $GRAPEBENCH_BLENDER set to a fake Blender (a shell script).
+template <class F>
+void with_fake_blender(const std::string& script, F body) {
+  const TempFolder t("grapebench-fake-blender");
+  const auto path = t.path / "blender";
+  std::ofstream(path) << "#!/bin/sh\n" << script << "\n";
+  std::filesystem::permissions(path, std::filesystem::perms::owner_all);
+  setenv("GRAPEBENCH_BLENDER", path.c_str(), 1);
+  body(t.path);
+  unsetenv("GRAPEBENCH_BLENDER");
+}
+
+std::string failure_of(const Fixture& f, const CyclesParams& cp, const std::filesystem::path& work) {
+  try {
+    cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 1, work);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CyclesRender, MissingBlenderIsABadInputNamingThePackage) {
+  const Fixture f(40, 30);
+  setenv("GRAPEBENCH_BLENDER", "/nonexistent/blender", 1);
+  const TempFolder t("grapebench-cycles-test");
+  try {
+    cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, CyclesParams{}, 1, t.path);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Debian package `blender`"), std::string::npos) << e.what();
+  }
+  unsetenv("GRAPEBENCH_BLENDER");
+}
+
+TEST(CyclesRender, ACrashAnOverrunAndAWrongAnswerAreNamedFailures) {
+  const Fixture f(40, 30);
+  CyclesParams cp;
+  cp.leaf_texels = 16;  // the export's leaf atlas is not what is tested here
+  with_fake_blender("echo 'Segmentation fault' >&2; kill -SEGV $$", [&](const std::filesystem::path& dir) {
+    const std::string e = failure_of(f, cp, dir / "w1");
+    EXPECT_NE(e.find("Blender failed"), std::string::npos) << e;
+    EXPECT_NE(e.find("signal"), std::string::npos) << e;
+  });
+  cp.time_limit = 1;
+  with_fake_blender("sleep 30 & sleep 30", [&](const std::filesystem::path& dir) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string e = failure_of(f, cp, dir / "w2");
+    EXPECT_NE(e.find("time limit of 1"), std::string::npos) << e;
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10);
+  });
+  cp.time_limit = 60;
+  // Exits 0 with a colour file of the wrong size: named, with the sizes.
+  with_fake_blender("d=$(dirname \"$7\"); head -c 100 /dev/zero > \"$d/colour.f32\"; head -c 4800 /dev/zero > \"$d/index.i32\"",
+                    [&](const std::filesystem::path& dir) {
+                      const std::string e = failure_of(f, cp, dir / "w3");
+                      EXPECT_NE(e.find("colour.f32 holds 100 bytes, want 14400"), std::string::npos) << e;
+                    });
+  // Ids outside the scene's.
+  with_fake_blender("d=$(dirname \"$7\"); head -c 14400 /dev/zero > \"$d/colour.f32\"; "
+                    "head -c 4800 /dev/urandom > \"$d/index.i32\"",
+                    [&](const std::filesystem::path& dir) {
+                      const std::string e = failure_of(f, cp, dir / "w4");
+                      EXPECT_NE(e.find("index.i32 holds id"), std::string::npos) << e;
+                    });
+}
+
+bool have_blender() { return !find_program("blender").empty(); }
+
+// Cycles' object-index pass (one sample at each pixel's centre) against the exact
+// labels, per class; and the colour image the same at 1 and 2 threads.
+TEST(CyclesRender, TheIndexPassAgreesWithTheExactLabelsAndThreadsDoNotMatter) {
+  if (!have_blender()) GTEST_SKIP() << "Blender not installed (Debian package `blender`; scripts/setup.sh installs it)";
+  const Fixture f(200, 150);
+  CyclesParams cp;
+  cp.samples = 4;
+  cp.threads = 2;
+  cp.leaf_texels = 64;
+  const TempFolder t("grapebench-cycles-test");
+  const CyclesRenderResult two = cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 3, t.path / "a");
+  cp.threads = 1;
+  const CyclesRenderResult one = cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 3, t.path / "b");
+  EXPECT_EQ(one.linear, two.linear);
+  EXPECT_EQ(one.part, two.part);
+  const OrganisedCloud exact = capture_exact(f.scene, f.cam);
+  for (Part part : {Part::Berry, Part::Pedicel, Part::Rachis, Part::Leaf, Part::Cane}) {
+    std::size_t both = 0, either = 0;
+    for (std::size_t i = 0; i < exact.size(); ++i) {
+      const bool a = exact.valid[i] && exact.label[i] == static_cast<std::uint8_t>(part);
+      const bool b = two.part[i] == static_cast<std::uint8_t>(part);
+      both += a && b;
+      either += a || b;
+    }
+    if (either < 30) continue;  // too few pixels of this part in view to judge
+    const double iou = static_cast<double>(both) / either;
+    std::printf("[cycles] part %d: IoU %.4f over %zu pixels\n", static_cast<int>(part), iou, either);
+    EXPECT_GE(iou, 0.99) << "part " << static_cast<int>(part);
+  }
+  std::printf("[cycles] 200 x 150, 4 samples: %.2f s (2 threads), %.2f s (1 thread)\n", two.seconds, one.seconds);
+}
+
+}  // namespace
+}  // namespace grapebench
