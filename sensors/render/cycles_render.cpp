@@ -72,6 +72,9 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   if (blender.empty())
     throw InputError("renderer: cycles needs Blender (Debian package `blender`, installed by scripts/setup.sh): " +
                      std::string(env && *env ? env : "blender") + " not found");
+  if (scene.background())
+    throw InputError("renderer: cycles does not draw a background plate yet (the rig's plate or cloth); "
+                     "use renderer: ray or opengl for this scene");
   std::filesystem::create_directories(work);
   const int W = cam.K.width, H = cam.K.height;
   json s;

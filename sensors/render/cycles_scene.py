@@ -637,6 +637,7 @@ def build_and_render(s, folder):
         # pixel's centre (a box filter 0.01 px wide), the ray the exact labels take.
         scene.cycles.samples = 1
         scene.cycles.filter_width = 0.01
+        scene.camera.data.dof.use_dof = False  # through the pinhole, as the exact labels
         result = bpy.ops.render.render(write_still=False)
         if "FINISHED" not in result:
             raise SceneError("the label render did not finish (%s)" % ", ".join(sorted(result)))

@@ -15,14 +15,15 @@ Eigen::Array3d SkyModel::shape(double z) const {
 SkyModel::SkyModel(const Illumination& light) : kind(light.sky) {
   // Irradiance of the unscaled sky on a horizontal surface: 2 pi Int L(z) z dz, in
   // luminance (Rec. 709 weights), by the midpoint rule.
-  double e = 0;
+  Eigen::Array3d e = Eigen::Array3d::Zero();
   const int n = 256;
   for (int i = 0; i < n; ++i) {
     const double z = (i + 0.5) / n;
-    const Eigen::Array3d c = shape(z);
-    e += (0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]) * z / n;
+    e += shape(z) * z / n;
   }
-  scale = light.sky_irradiance / (2 * M_PI * e);
+  e *= 2 * M_PI;
+  scale = light.sky_irradiance / (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]);
+  irradiance = scale * e;
 }
 
 }  // namespace grapebench

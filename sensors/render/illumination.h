@@ -27,6 +27,7 @@ struct Illumination {
 struct SkyModel {
   Illumination::Sky kind;
   double scale = 0;
+  Eigen::Array3d irradiance = Eigen::Array3d::Zero();  // per channel on a horizontal surface (its luminance: sky_irradiance)
   Eigen::Array3d zenith{0.30, 0.50, 1.00}, horizon{0.80, 0.86, 0.96};  // clear sky colours (assumed)
   explicit SkyModel(const Illumination& light);
   Eigen::Array3d shape(double z) const;

@@ -91,7 +91,7 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
     all.triangle_colour.insert(all.triangle_colour.end(), rows.foliage.triangle_colour.begin(),
                                rows.foliage.triangle_colour.end());
     all.canes.insert(all.canes.end(), rows.foliage.canes.begin(), rows.foliage.canes.end());
-    merged.emplace(scene.bunch(), std::nullopt, all);
+    merged.emplace(scene.bunch(), scene.background(), all);
   }
   const RayScene& rs = merged ? *merged : scene;
   const Foliage& fol = rs.foliage();
@@ -125,7 +125,13 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
           const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = d.dot(e0), d21 = d.dot(e1);
           const double den = d00 * d11 - d01 * d01;
           const double b1 = den != 0 ? (d11 * d20 - d01 * d21) / den : 0, b2 = den != 0 ? (d00 * d21 - d01 * d20) / den : 0;
-          p = sv(0) + b1 * (sv(1) - sv(0)) + b2 * (sv(2) - sv(0));
+          // Copy vertex v repeats the scene's vertex (v - n) % n (n the scene's count);
+          // a mirrored copy's triangles list them in another order.
+          const std::size_t nv = src.vertices.size();
+          const auto orig = [&](int k) -> const Vec3& {
+            return src.vertices[(static_cast<std::size_t>(tri[k]) - nv) % nv];
+          };
+          p = orig(0) + b1 * (orig(1) - orig(0)) + b2 * (orig(2) - orig(0));
         }
         const Vec3 sn = (sv(1) - sv(0)).cross(sv(2) - sv(0)).normalized();
         return leaf_material(look, p, sv(0), src.vertices[static_cast<std::size_t>(st[0]) + 1], sn,
@@ -148,12 +154,12 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
   const auto bounce = [&](const Hit& h, bool sunlit) -> C3 {
     const Material m = material(h);
     const double cs = sunlit ? h.normal.dot(sun_dir) : 0.0;
-    C3 l = c3(m.albedo) * (0.5 * light.sky_irradiance + std::max(0.0, cs) * sun_rgb) / M_PI;
+    C3 l = c3(m.albedo) * (0.5 * sky.irradiance + std::max(0.0, cs) * sun_rgb) / M_PI;
     l += c3(m.transmittance) * std::max(0.0, -cs) * sun_rgb / M_PI;
     return l;
   };
   const auto ground_radiance = [&](bool sunlit) -> C3 {
-    return c3(look.ground_reflectance) * (light.sky_irradiance + (sunlit ? std::max(0.0, sun_dir.z()) : 0.0) * sun_rgb) / M_PI;
+    return c3(look.ground_reflectance) * (sky.irradiance + (sunlit ? std::max(0.0, sun_dir.z()) : 0.0) * sun_rgb) / M_PI;
   };
   const std::uint64_t s_pix = derive_seed(seed, 11), s_sun = derive_seed(seed, 13), s_sky = derive_seed(seed, 14),
                       s_mir = derive_seed(seed, 15);
@@ -361,13 +367,18 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         const Sample& c = centre[i];
         C3 d = c.direct, a = c.albedo, t = c.trans, f = c.sky_front, b = c.sky_back;
-        double m = 1;
+        double m = 1, surfaces = c.key >= 2 ? 1 : 0;
         for (; k < owner.size() && owner[k] == u; ++k) {
           const Sample& g = got[k];
           d += g.direct, a += g.albedo, t += g.trans, f += g.sky_front, b += g.sky_back;
           m += 1;
+          surfaces += g.key >= 2;
         }
-        direct[i] = d / m, albedo[i] = a / m, trans[i] = t / m, front[i] = f / m, back[i] = b / m;
+        // albedo is the pixel's mean (the coverage w times the surfaces' mean), the sky
+        // light the mean over the samples that met a surface: their product is w rho L
+        // (a mean over every sample would give w^2 rho L, a dark fringe at silhouettes).
+        const double s = std::max(1.0, surfaces);
+        direct[i] = d / m, albedo[i] = a / m, trans[i] = t / m, front[i] = f / s, back[i] = b / s;
       }
     }
   });

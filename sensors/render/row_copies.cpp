@@ -29,7 +29,9 @@ RowCopies row_copies(const Foliage& f, const AppearanceParams& a) {
       for (const Vec3& v : f.vertices) o.vertices.push_back(place(v));
       for (std::size_t t = 0; t < f.triangles.size(); ++t) {
         const auto& tri = f.triangles[t];
-        o.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
+        // A mirror image reverses the winding: swapped back, so the upper face stays upper.
+        if (mirror) o.triangles.push_back({base + tri[0], base + tri[2], base + tri[1]});
+        else o.triangles.push_back({base + tri[0], base + tri[1], base + tri[2]});
         o.triangle_colour.push_back(f.triangle_colour[t]);
       }
       for (Stem s : f.canes) {

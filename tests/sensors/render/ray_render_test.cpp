@@ -50,7 +50,8 @@ TEST(RayRender, ALambertianSurfaceFacingTheSunReadsItsAlbedo) {
   EXPECT_NEAR(r.linear[c + 2], 0.1, 0.001);
 }
 
-// Looking down at open ground: rho (E_sky + E_sun sin(elevation)) for every pixel.
+// Looking down at open ground: rho (E_sky + E_sun sin(elevation)) for every pixel, per
+// channel.
 TEST(RayRender, OpenGroundReadsItsReflectanceTimesSunAndSky) {
   Bunch ball;
   ball.berries.push_back({Vec3(0, 0, 1.0), 0.01, {0.4f, 0.2f, 0.1f}, -1});  // ground 1 m below it
@@ -65,10 +66,13 @@ TEST(RayRender, OpenGroundReadsItsReflectanceTimesSunAndSky) {
   look.ground_below = 1.0;
   look.row_spacing = 0;
   const RayRenderResult r = ray_render(scene, cam, light, look, pinhole(2), 0.006, 1);
-  const double e = 0.25 + std::sqrt(3.0) / 2;
+  // The clear sky's irradiance per channel (bluish; its luminance is the 0.25 asked for).
+  const SkyModel sky(light);
+  EXPECT_NEAR(0.2126 * sky.irradiance[0] + 0.7152 * sky.irradiance[1] + 0.0722 * sky.irradiance[2], 0.25, 1e-9);
+  EXPECT_GT(sky.irradiance[2], sky.irradiance[0]);
   for (std::size_t i = 0; i < r.linear.size(); i += 3) {
-    EXPECT_NEAR(r.linear[i], look.ground_reflectance.r * e, 1e-4);
-    EXPECT_NEAR(r.linear[i + 2], look.ground_reflectance.b * e, 1e-4);
+    EXPECT_NEAR(r.linear[i], look.ground_reflectance.r * (sky.irradiance[0] + std::sqrt(3.0) / 2), 1e-4);
+    EXPECT_NEAR(r.linear[i + 2], look.ground_reflectance.b * (sky.irradiance[2] + std::sqrt(3.0) / 2), 1e-4);
   }
 }
 
