@@ -154,13 +154,9 @@ int main(int argc, char** argv) {
       for (int cls = 0; cls < 4; ++cls) {
         Eigen::Vector3d sr = Eigen::Vector3d::Zero(), sc = Eigen::Vector3d::Zero();
         std::size_t m = 0;
-        const auto lin = [](std::uint8_t x) {
-          const double s = x / 255.0;
-          return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-        };
         for (std::size_t i = 0; i < n; ++i) {
           if ((exact.valid[i] ? class_of(exact.label[i]) : 3) != cls) continue;
-          for (int ch = 0; ch < 3; ++ch) sr[ch] += lin(dr.rgb[3 * i + ch]), sc[ch] += lin(dc.rgb[3 * i + ch]);
+          for (int ch = 0; ch < 3; ++ch) sr[ch] += srgb8_to_linear(dr.rgb[3 * i + ch]), sc[ch] += srgb8_to_linear(dc.rgb[3 * i + ch]);
           ++m;
         }
         de[cls] = m >= 20 ? ciede2000(linear_rgb_to_lab(sr / m), linear_rgb_to_lab(sc / m)) : std::nan("");

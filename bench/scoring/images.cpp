@@ -17,12 +17,13 @@ Eigen::Vector3d linear_rgb_to_lab(const Eigen::Vector3d& rgb) {
   return {116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)};
 }
 
+double srgb8_to_linear(std::uint8_t v) {
+  const double s = v / 255.0;
+  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+
 Eigen::Vector3d srgb8_to_lab(std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-  const auto lin = [](std::uint8_t v) {
-    const double s = v / 255.0;
-    return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
-  };
-  return linear_rgb_to_lab({lin(r), lin(g), lin(b)});
+  return linear_rgb_to_lab({srgb8_to_linear(r), srgb8_to_linear(g), srgb8_to_linear(b)});
 }
 
 double ciede2000(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2) {

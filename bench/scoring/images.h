@@ -14,6 +14,8 @@ namespace grapebench {
 // 8-bit sRGB values (decoded first).
 Eigen::Vector3d linear_rgb_to_lab(const Eigen::Vector3d& rgb);
 Eigen::Vector3d srgb8_to_lab(std::uint8_t r, std::uint8_t g, std::uint8_t b);
+// An 8-bit sRGB value decoded to linear [0, 1] (IEC 61966-2-1).
+double srgb8_to_linear(std::uint8_t v);
 
 // CIEDE2000 (kL = kC = kH = 1), as Sharma, Wu and Dalal (2005) give it with their
 // test data (tests/bench/scoring/images_test.cpp checks it against that table).
