@@ -30,6 +30,16 @@ const ParamTable<ColmapParams>& colmap_param_table() {
   return table;
 }
 
+ProgramLimits colmap_program_limits(const ColmapParams& p) {
+  ProgramLimits limits;
+  limits.sandbox = p.sandbox;
+  limits.cpu_seconds = p.timeout + 1;
+  std::error_code ec;
+  if (p.repeatable && fs::is_regular_file(GRAPEBENCH_COLMAP_SEED_SHIM, ec))
+    limits.harness_readable.emplace_back(GRAPEBENCH_COLMAP_SEED_SHIM);  // preloaded: the sandbox must show it
+  return limits;
+}
+
 namespace {
 
 // Runs one COLMAP step confined to the run's folder (synth/confined_program.h:
@@ -38,9 +48,7 @@ namespace {
 std::string run(const std::vector<std::string>& args, const fs::path& dir, const ColmapParams& p,
                 const std::vector<std::pair<std::string, std::string>>& environment,
                 std::chrono::steady_clock::time_point deadline) {
-  ProgramLimits limits;
-  limits.sandbox = p.sandbox;
-  limits.cpu_seconds = p.timeout + 1;
+  ProgramLimits limits = colmap_program_limits(p);
   limits.environment = environment;
   std::unique_ptr<ConfinedProgram> prog;
   try {

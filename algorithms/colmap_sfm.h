@@ -24,6 +24,9 @@ struct ColmapParams {
   bool repeatable = true;  // preload algorithms/colmap_seed_shim.cpp: the same images give the same poses
 };
 const ParamTable<ColmapParams>& colmap_param_table();
+// How each COLMAP step is confined (synth/confined_program.h): the sandbox, its CPU time,
+// the seed shim it preloads.
+ProgramLimits colmap_program_limits(const ColmapParams& p);
 
 struct ColmapPoses {
   // Per image: camera to COLMAP's world (arbitrary similarity frame), or nullopt when

@@ -11,12 +11,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <mutex>
 #include <sstream>
 
 #include "synth/confined_program.h"
 #include "synth/temp_folder.h"
 #include "synth/io.h"
+#include "synth/utf8.h"
 #include "synth/png.h"
 
 extern char** environ;
@@ -135,22 +137,26 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
 }
 
 [[noreturn]] void fail(const ExternalParams& p, const std::string& why) {
-  throw InputError("external estimator '" + p.command[0] + "': " + why);
+  throw InputError(escape_invalid_utf8("external estimator '" + p.command[0] + "': " + why));
 }
 
 ProgramLimits limits_of(const ExternalParams& p) {
   ProgramLimits l;
   l.sandbox = p.sandbox;
+  l.readable.assign(p.readable.begin(), p.readable.end());
   l.cpu_seconds = p.cpu_limit;
   l.memory_mb = p.memory_limit;
   l.file_mb = p.file_limit;
   return l;
 }
 
+// `inbox`: a folder it may read and not write, or "".
 std::unique_ptr<ConfinedProgram> start(const ExternalParams& p, const std::vector<std::string>& args,
-                                       const fs::path& work, int stdio) {
+                                       const fs::path& work, int stdio, const fs::path& inbox = {}) {
   try {
-    return std::make_unique<ConfinedProgram>(args, work, limits_of(p), stdio);
+    ProgramLimits limits = limits_of(p);
+    if (!inbox.empty()) limits.harness_readable.push_back(inbox);
+    return std::make_unique<ConfinedProgram>(args, work, limits, stdio);
   } catch (const std::runtime_error& e) {
     fail(p, e.what());
   }
@@ -231,10 +237,21 @@ class PersistentPrograms {
   PersistentPrograms(const PersistentPrograms&) = delete;
   PersistentPrograms& operator=(const PersistentPrograms&) = delete;
 
-  nlohmann::json ask(const nlohmann::ordered_json& request) {
+  // `write` puts the request's files in the folder it is given and returns the request.
+  nlohmann::json ask(const std::function<nlohmann::ordered_json(const fs::path&)>& write) {
     std::unique_ptr<Process> proc = take();
     const auto deadline =
         Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(p_.timeout));
+    nlohmann::ordered_json request;
+    try {
+      const fs::path dir = proc->inbox->path / "request";
+      fs::remove_all(dir);
+      fs::create_directory(dir);
+      request = write(dir);
+    } catch (...) {
+      discard(*proc);
+      throw;
+    }
     try {
       send_line(*proc, request.dump() + "\n", deadline);
       nlohmann::json answer = parse_json_bounded(read_line(*proc, deadline));
@@ -255,6 +272,10 @@ class PersistentPrograms {
  private:
   struct Process {
     std::unique_ptr<TempFolder> dir;  // its work folder
+    // Where the harness writes each request's files: the program reads them and
+    // cannot write there (in its own folder, a link it put in place of a request's
+    // folder would send the harness's writes anywhere).
+    std::unique_ptr<TempFolder> inbox;
     std::unique_ptr<ConfinedProgram> program;
     int fd = -1;         // our end of the socket that is the program's stdin and stdout
     std::string buffer;  // bytes read past the last answer line
@@ -271,10 +292,11 @@ class PersistentPrograms {
     }
     auto proc = std::make_unique<Process>();
     proc->dir = std::make_unique<TempFolder>("grapebench-ext");
+    proc->inbox = std::make_unique<TempFolder>("grapebench-in");
     int sv[2];
     if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) fail(p_, "socketpair failed");
     try {
-      proc->program = start(p_, p_.command, proc->dir->path, sv[1]);
+      proc->program = start(p_, p_.command, proc->dir->path, sv[1], proc->inbox->path);
     } catch (...) {
       close(sv[0]);
       close(sv[1]);
@@ -397,8 +419,11 @@ Estimate parse_external_answer(const nlohmann::json& a, const ExternalParams& p,
       }
     }
   }
-  e.watertight = a.contains("watertight") && a["watertight"].is_boolean() && a["watertight"].get<bool>();
-  if (a.contains("notes") && a["notes"].is_string()) e.notes = a["notes"].get<std::string>().substr(0, 400);
+  // Wrong types refused (issue 39: "watertight": "yes" read as false).
+  if (a.contains("watertight") && !a["watertight"].is_boolean()) fail(p, "'watertight' must be true or false");
+  e.watertight = a.contains("watertight") && a["watertight"].get<bool>();
+  if (a.contains("notes") && !a["notes"].is_string()) fail(p, "'notes' must be a string");
+  if (a.contains("notes")) e.notes = escape_invalid_utf8(a["notes"].get<std::string>().substr(0, 400));
   return e;
 }
 
@@ -420,12 +445,13 @@ Estimate external_estimate(const EstimatorInput& input, const ExternalParams& p)
                   " scores per input point");
     return e;
   };
-  const TempFolder dir("grapebench-ext");
-  const nlohmann::ordered_json req = write_request(dir.path, input, p);
   if (p.persistent) {
     if (!p.programs) throw std::logic_error("external estimator: persistent mode without its programs");
-    return check(parse_external_answer(p.programs->ask(req), p, input.points.rows()));
+    const auto write = [&](const fs::path& dir) { return write_request(dir, input, p); };
+    return check(parse_external_answer(p.programs->ask(write), p, input.points.rows()));
   }
+  const TempFolder dir("grapebench-ext");
+  const nlohmann::ordered_json req = write_request(dir.path, input, p);
   std::ofstream(dir.path / "request.json", std::ios::binary) << req.dump(1) << "\n";
   return check(parse_external_answer(run_once(dir.path, p), p, input.points.rows()));
 }
@@ -440,6 +466,9 @@ const ParamTable<ExternalParams>& external_param_table() {
           .choice("sandbox", &P::sandbox, {{"bwrap", ProgramLimits::Sandbox::Bwrap}, {"none", ProgramLimits::Sandbox::None}},
                   "bwrap: bubblewrap, read-only file system but its work folder, no network, its own PIDs; none: "
                   "only the limits below and the cleanup (where user namespaces are not available)")
+          .strings("readable", &P::readable, 0,
+                   "bwrap: files or folders it may read besides the system's and the files its command names "
+                   "(\"{scene_dir}\" allowed), e.g. its modules' folder; never the run's --out")
           .real("cpu_limit", "s", &P::cpu_limit, 1, 86400, "CPU time of each of its processes (RLIMIT_CPU)")
           .real("memory_limit", "MB", &P::memory_limit, 64, 1e7, "address space of each of its processes (RLIMIT_AS)")
           .real("file_limit", "MB", &P::file_limit, 1, 1e7, "largest file it may write (RLIMIT_FSIZE)")

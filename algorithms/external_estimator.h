@@ -26,6 +26,7 @@ struct ExternalParams {
   double timeout = 300;  // s, [0.1, 86400], the whole exchange of one request; then it and all it started are killed
   // Confinement (synth/confined_program.h): the sandbox and per-process limits.
   ProgramLimits::Sandbox sandbox = ProgramLimits::Sandbox::Bwrap;
+  std::vector<std::string> readable;  // more it may read under bwrap ("{scene_dir}" replaced)
   double cpu_limit = 3600;    // s
   double memory_limit = 8192;  // MB of address space
   double file_limit = 1024;    // MB

@@ -82,6 +82,7 @@ RegistryEntry<EstimatorBinding> external() {
       "external", "an external program through the JSON protocol (algorithms/README.md); set `quantities`",
       external_param_table(), ExternalParams{}, [](ExternalParams x, const ConfigNode& n) {
         substitute_scene_dir(x.command, std::filesystem::path(n.file()).parent_path().string());
+        substitute_scene_dir(x.readable, std::filesystem::path(n.file()).parent_path().string());
         if (x.input == ExternalParams::Input::LabelledCloud) x.quantities.clear();  // class scores only
         if (x.persistent) x.programs = start_persistent_programs(x);
         const char* input = x.input == ExternalParams::Input::StereoPair      ? "stereo_pair"

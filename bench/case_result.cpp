@@ -10,6 +10,7 @@
 #include "bench/fnv1a.h"
 #include "bench/heap_meter.h"
 #include "synth/io.h"
+#include "synth/utf8.h"
 
 namespace grapebench {
 
@@ -94,7 +95,7 @@ TimedEstimate run_estimator(const EstimatorSpec& spec, const EstimatorInput& inp
     try {
       std::rethrow_exception(error);
     } catch (const std::exception& e) {
-      t.error = e.what();
+      t.error = escape_invalid_utf8(e.what());  // a program's bytes may be quoted
     } catch (...) {
       t.error = "an exception that is not a std::exception";
     }

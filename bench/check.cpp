@@ -99,21 +99,35 @@ CheckResult check_against_baseline(const nlohmann::json& run, const nlohmann::js
   if (baseline.contains("tolerances")) {
     const auto& j = baseline["tolerances"];
     if (!j.is_object()) throw InputError(baseline_name + ": 'tolerances' must be an object of numbers");
-    const std::map<std::string, double*> known = {
-        {"rmse_rel", &t.rmse_rel},           {"rmse_abs", &t.rmse_abs},
-        {"mape_pct_abs", &t.mape_pct_abs},   {"r2_abs", &t.r2_abs},
-        {"bias_rmse_frac", &t.bias_rmse_frac}, {"success_rate_abs", &t.success_rate_abs},
-        {"classification_abs", &t.classification_abs}, {"stereo_rate_abs", &t.stereo_rate_abs},
-        {"cut_error_mm_abs", &t.cut_error_mm_abs}};
+    // Each with its largest sensible value: a tolerance of 1e308 would pass anything.
+    struct Known {
+      double* value;
+      double max;
+      const char* unit;
+    };
+    const std::map<std::string, Known> known = {
+        {"rmse_rel", {&t.rmse_rel, 10, "fraction of the baseline's RMSE"}},
+        {"rmse_abs", {&t.rmse_abs, 1e4, "cm3 or mm"}},
+        {"mape_pct_abs", {&t.mape_pct_abs, 1000, "percentage points"}},
+        {"r2_abs", {&t.r2_abs, 100, "-"}},
+        {"bias_rmse_frac", {&t.bias_rmse_frac, 10, "fraction of the baseline's RMSE"}},
+        {"success_rate_abs", {&t.success_rate_abs, 1, "rate"}},
+        {"classification_abs", {&t.classification_abs, 1, "AUC, IoU or F1"}},
+        {"stereo_rate_abs", {&t.stereo_rate_abs, 1, "rate"}},
+        {"cut_error_mm_abs", {&t.cut_error_mm_abs, 1000, "mm"}}};
     for (const auto& [k, v] : j.items()) {
       if (!known.count(k)) {
         std::string names;
         for (const auto& n : known) names += (names.empty() ? "" : ", ") + n.first;
         throw InputError(baseline_name + ": 'tolerances." + k + "' is not a tolerance (one of: " + names + ")");
       }
-      if (!v.is_number() || !(v.get<double>() >= 0) || !std::isfinite(v.get<double>()))
-        throw InputError(baseline_name + ": 'tolerances." + k + "' must be a finite number >= 0");
-      *known.at(k) = v.get<double>();
+      const Known& to = known.at(k);
+      if (!v.is_number() || !(v.get<double>() >= 0 && v.get<double>() <= to.max)) {
+        char range[120];
+        std::snprintf(range, sizeof range, "must be a number in [0, %g] (%s)", to.max, to.unit);
+        throw InputError(baseline_name + ": 'tolerances." + k + "' " + range + ", got " + v.dump());
+      }
+      *to.value = v.get<double>();
     }
   }
   CheckResult res;

@@ -1,8 +1,10 @@
 #include "bench/cloud_file.h"
 
 #include "synth/config.h"
+#include "synth/read_regular_file.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -18,6 +20,13 @@ namespace {
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
 constexpr std::uint64_t kMaxPoints = std::uint64_t{1} << 31;
+// Metres. Issue 39: a float property holding 1e39 (inf as a float) or a point at 1e308
+// aborted PCL's kd-tree (cylinder_fit, every Poisson solver). Floats resolve 1 mm up
+// to 8 km: 10 km bounds any vineyard scan in a local frame.
+constexpr double kMaxCoordinate = 1e4;
+// A whole file is read: 2 GiB holds 60 million points of x y z, normals and colour
+// as floats (a file past it is refused before a byte of it is read).
+constexpr std::size_t kMaxCloudFileBytes = std::size_t{2} << 30;
 
 // The header's lines (without line ends) and where the data starts.
 struct Header {
@@ -143,6 +152,13 @@ struct Builder {
       }
       throw InputError(name + ": point " + std::to_string(index) + " has a non-finite coordinate");
     }
+    if (std::max({std::abs(x), std::abs(y), std::abs(z)}) > kMaxCoordinate) {
+      char why[200];
+      std::snprintf(why, sizeof why, ": point %llu at (%g, %g, %g) m: coordinates must lie within +-%g m",
+                    static_cast<unsigned long long>(index), x, y, z, kMaxCoordinate);
+      throw InputError(name + why + " (move the cloud near the origin: beyond it single-precision kd-trees lose "
+                                    "the millimetre, and 1e39 is no float at all)");
+    }
     xyz.insert(xyz.end(), {x, y, z});
     if (cols.normal[0] >= 0) {
       for (int k = 0; k < 3; ++k) nrm.push_back(v[static_cast<std::size_t>(cols.normal[k])]);
@@ -175,6 +191,24 @@ struct Builder {
     return f;
   }
 };
+
+// Issue 39: a file with more records than its header says, or a binary header over
+// text, was accepted (its tail ignored). After the last record only whitespace
+// (text) or nothing (binary) may follow.
+void refuse_trailing(const std::string& bytes, std::size_t pos, bool ascii, const std::string& name,
+                     const std::string& promised) {
+  pos = std::min(pos, bytes.size());
+  if (ascii) {
+    const std::size_t next = bytes.find_first_not_of(" \t\r\n", pos);
+    if (next == std::string::npos) return;
+    throw InputError(name + ": line " + std::to_string(1 + std::count(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(next), '\n')) +
+                     ": data after the " + promised + " the header promises");
+  }
+  if (pos != bytes.size())
+    throw InputError(name + ": " + std::to_string(bytes.size() - pos) + " bytes after the " + promised +
+                     " the header promises (byte " + std::to_string(pos) + " of " + std::to_string(bytes.size()) +
+                     "; a text body under a binary header?)");
+}
 
 // ---- PLY ----
 
@@ -274,6 +308,8 @@ CloudFile parse_ply(const std::string& bytes, const std::string& name) {
       } else {
         fail_line(name, line, "property: expected `property <type> <name>` or `property list <count type> <type> <name>`");
       }
+      for (const auto& q : elements.back().props)
+        if (q.name == p.name) fail_line(name, line, "property " + p.name + " given twice in element " + elements.back().name);
       elements.back().props.push_back(p);
     } else {
       fail_line(name, line, "unknown header keyword '" + w[0] + "' (format, element, property, comment, end_header)");
@@ -287,8 +323,8 @@ CloudFile parse_ply(const std::string& bytes, const std::string& name) {
   const bool ascii = format == "ascii", swap = format == "binary_big_endian";
   std::size_t pos = h.data_offset;
   std::vector<double> values;
-  // Elements are read in order; the ones before the vertices are skipped, the rest unread.
-  for (auto e = elements.begin(); e != vertex_at + 1; ++e) {
+  // Elements are read in order; all but the vertices are skipped (read to find the end).
+  for (auto e = elements.begin(); e != elements.end(); ++e) {
     const bool keep = e == vertex_at;
     std::size_t fixed = 0;
     for (const auto& p : e->props) fixed += static_cast<std::size_t>(p.type.size);
@@ -345,6 +381,7 @@ CloudFile parse_ply(const std::string& bytes, const std::string& name) {
       if (keep) b.add(values, 0, name, r);
     }
   }
+  refuse_trailing(bytes, pos, ascii, name, "records");
   return b.finish("ply " + format);
 }
 
@@ -370,6 +407,9 @@ CloudFile parse_pcd(const std::string& bytes, const std::string& name) {
   }
   const auto& fields = keys["FIELDS"].first;
   const std::size_t nf = fields.size();
+  for (std::size_t f = 0; f < nf; ++f)
+    if (std::find(fields.begin(), fields.begin() + static_cast<std::ptrdiff_t>(f), fields[f]) != fields.begin() + static_cast<std::ptrdiff_t>(f))
+      fail_line(name, keys["FIELDS"].second, "FIELDS: " + fields[f] + " given twice");
   const auto check_len = [&](const std::string& key) {
     if (keys[key].first.size() != nf) {
       fail_line(name, keys[key].second, key + ": " + std::to_string(keys[key].first.size()) + " entries for " + std::to_string(nf) + " FIELDS");
@@ -488,6 +528,7 @@ CloudFile parse_pcd(const std::string& bytes, const std::string& name) {
     }
     b.add(values, packed, name, r);
   }
+  refuse_trailing(bytes, pos, ascii, name, std::to_string(points) + " points");
   return b.finish("pcd " + data[0]);
 }
 
@@ -504,13 +545,7 @@ CloudFile read_cloud_file(const std::filesystem::path& path) {
   if (!ext.empty()) ext.erase(0, 1);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext != "ply" && ext != "pcd") throw InputError(path.string() + ": not a .ply or .pcd file");
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path.string() + ": no such file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot open");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return parse_cloud(s.str(), path.string(), ext);
+  return parse_cloud(read_regular_file(path, kMaxCloudFileBytes), path.string(), ext);
 }
 
 }  // namespace grapebench

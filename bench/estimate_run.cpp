@@ -2,9 +2,11 @@
 
 #include "algorithms/registry.h"
 #include "bench/case_result.h"
+#include "bench/scene_file.h"
 #include "bench/scoring/scalars.h"
 #include "synth/config.h"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -37,7 +39,7 @@ std::vector<EstimatorSpec> estimators_from_arguments(const std::vector<std::stri
 }
 
 std::vector<EstimatorSpec> estimators_from_scene(const std::string& path) {
-  const ConfigNode root = ConfigNode::load_file(path);
+  const ConfigNode root = ConfigNode::load_string(read_scene_text(path), path);
   if (!root.has("estimators")) throw InputError(path + ": no `estimators:` list to run");
   std::vector<EstimatorSpec> out = read_estimators(root);
   for (const auto& e : out) {
@@ -66,13 +68,17 @@ nlohmann::ordered_json estimate_cloud(const CloudFile& cloud, const std::string&
     nlohmann::ordered_json r;
     r["name"] = spec.name;
     r["type"] = spec.type;
-    const std::string error = !t.error.empty() ? t.error : t.estimate.error;
+    std::string error = !t.error.empty() ? t.error : t.estimate.error;
+    // A value no number holds is a failure, never an answer (issue 39: an infinite
+    // hull volume was printed as ok).
+    for (const auto& [q, v] : t.estimate.values)
+      if (error.empty() && !std::isfinite(v)) error = std::string(quantity_name(q)) + " is not a finite number";
     r["ok"] = error.empty();
     r["error"] = error;
     r["seconds"] = t.seconds;
     r["peak_heap_mb"] = t.peak_heap_mb;
     nlohmann::ordered_json values = nlohmann::ordered_json::object();
-    if (t.error.empty()) {
+    if (error.empty()) {
       for (const auto& [q, v] : t.estimate.values) {
         const std::string name = quantity_name(q);
         values[name] = {{"value", v * display_scale(name)}, {"unit", display_unit(name)}};

@@ -3,6 +3,7 @@
 #include "bench/build_info.h"
 #include "bench/check.h"
 #include "bench/estimate_run.h"
+#include "synth/confined_program.h"
 #include "bench/runner.h"
 #include "bench/scan_run.h"
 #include "bench/protocols/registry.h"
@@ -10,6 +11,7 @@
 #include "bench/synth_run.h"
 #include "synth/config.h"
 #include "synth/io.h"
+#include "synth/read_regular_file.h"
 #include "synth/params.h"
 
 #include <CLI/CLI.hpp>
@@ -74,12 +76,9 @@ std::string sensor_help() {
 }
 
 nlohmann::json read_json(const std::filesystem::path& f, const std::string& what, bool benchmark = false) {
-  std::ifstream in(f, std::ios::binary);
-  if (!in) throw InputError(f.string() + ": cannot open");
-  std::stringstream text;
-  text << in.rdbuf();
+  const std::string text = read_regular_file(f, std::size_t{256} << 20);
   try {
-    return parse_json_bounded(benchmark ? benchmark_json_text(text.str()) : text.str());
+    return parse_json_bounded(benchmark ? benchmark_json_text(text) : text);
   } catch (const std::exception& e) {
     throw InputError(f.string() + ": not " + what + ": " + e.what());
   }
@@ -202,6 +201,7 @@ int run_command(std::vector<std::string> scenes, const std::string& out, const s
   // Every scene is read (and every error reported) before any work starts.
   std::vector<SceneSet> scene_sets;
   for (const auto& path : scenes) scene_sets.push_back(load_scene_set(path));
+  hide_from_programs(out);  // the cases and truth of this and other scenes' runs
   for (const auto& set : scene_sets) {
     RunOptions o = run_opt;
     o.out = std::filesystem::path(out) / set.base.name;

@@ -5,9 +5,11 @@
 #include "bench/classification_tables.h"
 #include "bench/protocols/classification.h"
 #include "bench/report.h"
+#include "bench/scene_file.h"
 #include "bench/size_error.h"
 #include "bench/stereo_tables.h"
 #include "synth/io.h"
+#include "synth/utf8.h"
 
 #include <tbb/info.h>
 
@@ -252,10 +254,13 @@ nlohmann::ordered_json timings_json(const SceneSet& set, const std::vector<Score
 nlohmann::ordered_json manifest_json(const SceneSet& set, const std::vector<CaseResult>& cases, int threads) {
   nlohmann::ordered_json j;
   j["scene_file"] = set.base.path;
-  std::ifstream in(set.base.path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  j["scene_text"] = text.str();
+  std::string text;
+  try {
+    text = read_scene_text(set.base.path);
+  } catch (const InputError& e) {
+    text = std::string("(unreadable at the end of the run: ") + e.what() + ")";
+  }
+  j["scene_text"] = escape_invalid_utf8(text);  // the file may have changed since it was read
   nlohmann::ordered_json sweep = nlohmann::ordered_json::array();
   for (const auto& a : set.base.sweep) sweep.push_back({{"key", a.key}, {"values", a.values}});
   j["sweep"] = sweep;

@@ -1,9 +1,13 @@
 #include "bench/runner.h"
 
 #include "bench/build_info.h"
+#include "bench/scene_file.h"
+#include "bench/fnv1a.h"
 #include "bench/outputs.h"
 #include "bench/progress.h"
+#include "synth/confined_program.h"
 #include "synth/io.h"
+#include "synth/read_regular_file.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -59,16 +63,16 @@ struct CaseRead {
   bool tampered = false;             // its content does not match its digest
 };
 
+// Case files hold one bunch's rows and diagnostics: a few MB at most.
+constexpr std::size_t kMaxCaseFileBytes = std::size_t{256} << 20;
+
 // A finished case file with the expected key, computed by this build unless
 // `any_build`, whose content matches its digest and whose fields are the scene's.
 CaseRead read_case(const SceneSet& set, const CaseRef& ref, const fs::path& file, bool any_build) {
   CaseRead out;
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return out;
   try {
-    std::stringstream text;
-    text << in.rdbuf();
-    const auto j = parse_json_bounded(text.str());
+    // Not a regular file (a FIFO, a link to a device) or too large: recomputed.
+    const auto j = parse_json_bounded(read_regular_file(file, kMaxCaseFileBytes));
     CaseResult c = case_from_json(j);
     if (c.key != ref.key) return out;
     // A file whose indices are not its place's is foreign or edited: its condition
@@ -118,12 +122,8 @@ class CaseClaim {
 
 // The count of a finished shard's shard.json in `dir`, or 0.
 int shard_count_in(const fs::path& dir) {
-  std::ifstream in(dir / "shard.json", std::ios::binary);
-  if (!in) return 0;
   try {
-    std::stringstream text;
-    text << in.rdbuf();
-    const auto j = parse_json_bounded(text.str());
+    const auto j = parse_json_bounded(read_regular_file(dir / "shard.json", std::size_t{1} << 20));
     if (j.value("format", "") != "grapebench-shard-1") return 0;
     return std::max(0, j.at("count").get<int>());
   } catch (const std::exception&) {
@@ -173,6 +173,43 @@ std::string missing_shards(std::size_t n_cases, const std::vector<std::size_t>& 
 
 }  // namespace
 
+namespace {
+
+// One --out folder holds one scene (issue 39: two scene files with the same `name` on
+// one --out both ran, and one's results replaced the other's silently). The folder
+// records the scene file it holds; another file of other text is refused. The same
+// file edited, or a copy of it, runs on.
+void claim_scene_folder(const SceneSet& set, const fs::path& out) {
+  std::string text;
+  try {
+    text = read_scene_text(set.base.path);
+  } catch (const InputError&) {
+    return;  // a scene given as text (no file to name)
+  }
+  std::error_code ec;
+  const std::string source = fs::weakly_canonical(set.base.path, ec).string();
+  char digest[17];
+  std::snprintf(digest, sizeof digest, "%016llx", static_cast<unsigned long long>(fnv1a(text)));
+  const fs::path marker = out / "scene_source.json";
+  nlohmann::json was;
+  try {
+    was = parse_json_bounded(read_regular_file(marker, std::size_t{1} << 16));
+  } catch (const std::exception&) {
+    was = nullptr;  // absent or unreadable: claimed below
+  }
+  const auto text_of = [&](const char* key) {
+    return was.is_object() && was.contains(key) && was[key].is_string() ? was[key].get<std::string>() : std::string();
+  };
+  if (!text_of("path").empty() && text_of("path") != source && text_of("digest") != digest) {
+    throw InputError(out.string() + " holds the run of " + text_of("path") + ", another scene named '" +
+                     set.base.name + "' than " + source + ": give one of them another `name`, or another --out");
+  }
+  write_file_atomic(marker, nlohmann::json{{"format", "grapebench-scene-source-1"}, {"path", source}, {"digest", digest}}
+                                .dump(1) + "\n");
+}
+
+}  // namespace
+
 RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   if (o.shard_count < 1 || o.shard_index < 0 || o.shard_index >= o.shard_count) {
     throw InputError("--shard i/N needs 0 <= i < N, got " + std::to_string(o.shard_index) + "/" +
@@ -184,6 +221,8 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(tbb::info::default_concurrency());
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   fs::create_directories(o.out / "cases");
+  claim_scene_folder(set, o.out);
+  hide_from_programs(o.out);  // no program it starts sees the cases and their truth
   const auto refs = all_cases(set, o.out);
   RunOutcome outcome;
   outcome.cases = static_cast<int>(refs.size());

@@ -6,11 +6,14 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "bench/protocols/registry.h"
+#include "synth/read_regular_file.h"
+#include "synth/utf8.h"
 
 namespace grapebench {
 
@@ -69,7 +72,13 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
                       return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
                     });
   if (!safe) {
-    root.fail("name", "'" + s.name + "' is not a safe folder name: 1-100 of A-Z a-z 0-9 _ - . not starting with . or -" +
+    std::string shown;  // control bytes written out (a NUL cut the message short)
+    for (const char c : s.name) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned char>(c));
+      shown += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? std::string(hex) : std::string(1, c);
+    }
+    root.fail("name", "'" + escape_invalid_utf8(shown) + "' is not a safe folder name: 1-100 of A-Z a-z 0-9 _ - . not starting with . or -" +
                           (root.has("name") ? "" : " (the default is the file's name; set `name:`)"));
   }
   if (!root.has("seed")) root.fail("seed", "missing: every scene names its seed (an unsigned integer)");
@@ -124,7 +133,11 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
 
 }  // namespace
 
-Scene load_scene(const std::string& path) { return read_scene(ConfigNode::load_file(path), path); }
+std::string read_scene_text(const std::string& path) { return read_regular_file(path, kMaxSceneFileBytes); }
+
+Scene load_scene(const std::string& path) {
+  return read_scene(ConfigNode::load_string(read_scene_text(path), path), path);
+}
 
 namespace {
 
@@ -136,11 +149,11 @@ void substitute(YAML::Node node, const std::string& path, const YAML::Node& valu
   const std::string rest = dot == std::string::npos ? "" : path.substr(dot + 1);
   int index = -1;
   if (const auto br = head.find('['); br != std::string::npos && head.back() == ']') {
-    try {
-      index = std::stoi(head.substr(br + 1, head.size() - br - 2));
-    } catch (const std::exception&) {
-      throw InputError(where + ": sweep key '" + path + "': bad index in '" + head + "'");
-    }
+    // Digits only (issue 39: stoi read "-1" as -1, "every element", and "1x" as 1).
+    const std::string digits = head.substr(br + 1, head.size() - br - 2);
+    if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos)
+      throw InputError(where + ": sweep key '" + path + "': bad index in '" + head + "' (a list index, 0 to 999999)");
+    index = std::stoi(digits);
     head = head.substr(0, br);
   }
   if (node.IsMap() && !node[head] && rest.empty() && index < 0) {
@@ -222,6 +235,17 @@ SceneSet expand(const std::string& text, const std::string& name) {
   SceneSet set;
   const YAML::Node root_yaml = parse_yaml(text, name);
   set.base = read_scene(ConfigNode::from_yaml(root_yaml, name), name);
+  // The expanded size, bounded before anything is expanded (issue 39): the sweep's
+  // points times the bunches, each a case.
+  std::size_t points = 1, bunches = 0;  // saturating: no product overflows
+  for (const auto& a : set.base.sweep)
+    points = std::min<std::size_t>(points * std::clamp<std::size_t>(a.values.size(), 1, 1000000), 1000000000000ull);
+  for (const auto& g : set.base.groups) bunches = std::min<std::size_t>(bunches + static_cast<std::size_t>(g.count), 1000000000ull);
+  constexpr std::size_t kMaxCases = 1000000;
+  if (points <= 100000 && points * bunches > kMaxCases)
+    throw InputError(name + ": the scene expands to " + std::to_string(points * bunches) + " cases (" +
+                     std::to_string(points) + " sweep points x " + std::to_string(bunches) + " bunches); at most " +
+                     std::to_string(kMaxCases));
   if (set.base.sweep.empty()) {
     set.conditions.push_back({{}, "", set.base});
     return set;
@@ -282,13 +306,7 @@ SceneSet expand(const std::string& text, const std::string& name) {
 
 SceneSet parse_scene_set(const std::string& text, const std::string& name) { return expand(text, name); }
 
-SceneSet load_scene_set(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scene_set(text.str(), path);
-}
+SceneSet load_scene_set(const std::string& path) { return parse_scene_set(read_scene_text(path), path); }
 
 Scene parse_scene(const std::string& text, const std::string& name) {
   return read_scene(ConfigNode::load_string(text, name), name);

@@ -17,13 +17,15 @@ if ((${#targets[@]} == 0)); then
   targets=(scene case_file baseline bench_json external_answer cloud_file)
 fi
 declare -A seeds=(
-  [scene]="$here/scenes $here/tests/bench/data"
+  [scene]="$here/scenes $here/tests/bench/data $here/tests/fuzz/corpus/scene"
   [case_file]="$here/tests/fuzz/corpus/case_file"
-  [baseline]="$here/results/baseline"
+  [baseline]="$here/results/baseline $here/tests/fuzz/corpus/baseline"
   [bench_json]="$here/tests/fuzz/corpus/bench_json"
   [external_answer]="$here/tests/fuzz/corpus/external_answer"
   [cloud_file]="$here/tests/fuzz/corpus/cloud_file"
 )
+declare -A dicts=([scene]=yaml [cloud_file]=cloud [case_file]=json [baseline]=json [bench_json]=json
+  [external_answer]=json)
 export LSAN_OPTIONS="suppressions=$here/tests/lsan.supp"
 status=0
 printf '%-16s %10s %10s %8s %8s  %s\n' target runs exec/s cov ft findings
@@ -33,7 +35,7 @@ for t in "${targets[@]}"; do
   log="$build/findings/$t.log"
   # shellcheck disable=SC2086
   if ! "$build/tests/fuzz/${t}_fuzz" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 \
-      -print_final_stats=1 -artifact_prefix="$findings/" "$corpus" ${seeds[$t]} >"$log" 2>&1; then
+      -dict="$here/tests/fuzz/dict/${dicts[$t]}.dict" -print_final_stats=1 -artifact_prefix="$findings/" "$corpus" ${seeds[$t]} >"$log" 2>&1; then
     status=1
   fi
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)

@@ -1,10 +1,14 @@
 #include "synth/config.h"
 
+#include "synth/utf8.h"
+
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/parser.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -74,10 +78,19 @@ namespace {
 class DocumentCounter : public YAML::EventHandler {
  public:
   int line = -1;  // 0-based line of the last document's start
+  // Set: an alias is refused, naming this file. An alias is a reference, so a
+  // kilobyte of nested ones stands for billions of nodes, which every walk of the
+  // document (the strict-key check, a sweep's copy) would visit.
+  std::optional<std::string> refuse_aliases;
   void OnDocumentStart(const YAML::Mark& m) override { line = m.line; }
   void OnDocumentEnd() override {}
   void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
-  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override {
+    if (refuse_aliases)
+      throw InputError(*refuse_aliases + ":" + std::to_string(m.line + 1) +
+                       ": a YAML alias (*name): not supported, write the value out (aliases can expand a small "
+                       "file into billions of nodes)");
+  }
   void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
   void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
   void OnSequenceEnd() override {}
@@ -88,16 +101,25 @@ class DocumentCounter : public YAML::EventHandler {
 }  // namespace
 
 YAML::Node ConfigNode::parse_strict(const std::string& text, const std::string& name) {
+  if (const std::size_t at = invalid_utf8_at(text); at != std::string::npos) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+    throw InputError(name + ":" + std::to_string(line) + ": not UTF-8 (byte " + std::to_string(at) + ", 0x" +
+                     escape_invalid_utf8(text.substr(at, 1)).substr(2) + "): scene files are UTF-8 text");
+  }
   YAML::Node root;
   try {
     // Not YAML::LoadAll: yaml-cpp 0.7 loops forever, allocating, on a stray ","
     // outside a flow collection (found by tests/fuzz/scene_fuzz.cpp). The first
-    // document is loaded; the parser is then asked for a second one, once.
-    root = YAML::Load(text);
+    // document is read as events (aliases refused) and then loaded; the parser is
+    // then asked for a second one, once.
     std::istringstream in(text);
     YAML::Parser parser(in);
     DocumentCounter counter;
-    if (parser.HandleNextDocument(counter) && parser.HandleNextDocument(counter)) {
+    counter.refuse_aliases = name;
+    parser.HandleNextDocument(counter);
+    counter.refuse_aliases.reset();
+    root = YAML::Load(text);
+    if (parser.HandleNextDocument(counter)) {
       throw InputError(name + ":" + std::to_string(counter.line + 1) +
                        ": a second YAML document, or text after the first; a scene file holds one");
     }
@@ -120,14 +142,6 @@ ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name) {
   ConfigNode cfg(root, state, "");
   if (!root.IsMap()) cfg.fail("", "the document must be a mapping of keys to values");
   return cfg;
-}
-
-ConfigNode ConfigNode::load_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_string(text.str(), path);
 }
 
 std::string ConfigNode::where(const std::string& key) const {

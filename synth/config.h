@@ -31,8 +31,6 @@ void check_range(double v, double lo, double hi, const char* who, const char* na
 // A mapping node of a YAML document that remembers which keys were read.
 class ConfigNode {
  public:
-  // Parses `path`; throws InputError on I/O or syntax errors.
-  static ConfigNode load_file(const std::string& path);
   // Parses text; `name` stands for the file in messages.
   static ConfigNode load_string(const std::string& text, const std::string& name);
   // The strict parse under both: one document; no duplicate or non-scalar keys, no

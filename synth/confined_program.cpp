@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <string_view>
 
@@ -126,9 +127,10 @@ rlimit limit_of(double v, double slack) {
   return rlimit{r, static_cast<rlim_t>(std::ceil(v + slack))};
 }
 
-}  // namespace
-
-std::string find_program(const std::string& name) {
+// Where `name` is found in PATH (a name holding '/' is taken as it is), when `usable`
+// says yes; "" when not.
+template <class Usable>
+std::string find_program_where(const std::string& name, const Usable& usable) {
   if (name.empty()) return "";
   if (name.find('/') != std::string::npos) {
     std::error_code ec;
@@ -143,18 +145,142 @@ std::string find_program(const std::string& name) {
     const std::string dir = end > start ? dirs.substr(start, end - start) : ".";
     const fs::path p = fs::path(dir) / name;
     std::error_code ec;
-    if (access(p.c_str(), X_OK) == 0 && fs::is_regular_file(p, ec)) return fs::absolute(p, ec).string();
+    if (access(p.c_str(), X_OK) == 0 && fs::is_regular_file(p, ec) && usable(p))
+      return fs::absolute(p, ec).string();
     start = end + 1;
   }
   return "";
+}
+
+std::mutex g_hidden_mutex;
+std::vector<fs::path> g_hidden;  // hide_from_programs
+
+// Absolute, lexically normal, no trailing separator.
+fs::path normal(const fs::path& p) {
+  fs::path n = fs::absolute(p).lexically_normal();
+  if (!n.has_filename() && n.has_parent_path() && n != n.root_path()) n = n.parent_path();
+  return n;
+}
+
+// `p` is `root` or lies inside it (both normal).
+bool inside(const fs::path& p, const fs::path& root) {
+  auto q = p.begin();
+  for (auto r = root.begin(); r != root.end(); ++r, ++q) {
+    if (q == p.end() || *q != *r) return false;
+  }
+  return true;
+}
+
+// The system's folders a program needs (read-only): Debian's merged /usr keeps /bin,
+// /sbin and /lib* as links into it.
+constexpr const char* kSystemFolders[] = {"/usr", "/etc", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32"};
+
+// `p` resolved through every link that exists (so a hidden folder reached through
+// a link is still recognised).
+fs::path resolved(const fs::path& p) {
+  std::error_code ec;
+  const fs::path c = fs::weakly_canonical(fs::absolute(p), ec);
+  return ec ? normal(p) : normal(c);
+}
+
+// An argument that names a file by a path (absolute, or holding a '/'): a bare word
+// such as COLMAP's "PINHOLE" is never taken for a file that happens to be here.
+bool names_a_file(const std::string& a) {
+  std::error_code ec;
+  return !a.empty() && a.size() <= 4096 && a.find('/') != std::string::npos && fs::is_regular_file(a, ec);
+}
+
+// bubblewrap's arguments: what the program sees (ProgramLimits' comment says what).
+// The file arguments of `argv` are rewritten to their normal paths (a path through a
+// folder the program cannot see, "scenes/../x.py", would not resolve inside).
+std::vector<std::string> sandbox_arguments(const std::string& bwrap, const ProgramLimits& limits,
+                                           const std::string& work, std::vector<std::string>& argv,
+                                           const std::string& program) {
+  std::vector<std::string> args = {bwrap, "--unshare-all", "--die-with-parent", "--new-session", "--cap-drop", "ALL"};
+  struct Shown {
+    fs::path at, real;  // where the program sees it, and what it is
+  };
+  std::vector<Shown> roots;
+  std::error_code ec;
+  for (const char* f : kSystemFolders) {
+    if (fs::is_symlink(f, ec)) {
+      args.insert(args.end(), {"--symlink", fs::read_symlink(f, ec).string(), f});  // seen through /usr
+    } else if (fs::is_directory(f, ec)) {
+      args.insert(args.end(), {"--ro-bind", f, f});
+      roots.push_back({f, resolved(f)});
+    }
+  }
+  args.insert(args.end(), {"--dev", "/dev", "--proc", "/proc", "--tmpfs", "/tmp"});
+  const fs::path work_dir = normal(work);
+  std::vector<fs::path> hidden;
+  {
+    std::lock_guard<std::mutex> lock(g_hidden_mutex);
+    hidden = g_hidden;
+  }
+  const auto show = [&](const fs::path& given, bool check) {
+    const Shown s{normal(given), resolved(given)};
+    for (const auto& r : roots)
+      if (inside(s.at, r.at) && inside(s.real, r.real)) return;  // already seen there
+    for (const auto& h : hidden) {
+      if (check && inside(s.real, h))
+        throw std::runtime_error("'" + given.string() + "' (in `readable`, or named by the command) lies inside the "
+                                 "run's output folder '" + h.string() + "', which no program may see");
+    }
+    args.insert(args.end(), {"--ro-bind", s.real.string(), s.at.string()});
+    roots.push_back(s);
+  };
+  for (const auto& r : limits.readable) {
+    if (!fs::exists(r, ec))
+      throw std::runtime_error("readable: '" + r.string() + "' does not exist (the program would not find it)");
+    show(r, true);
+  }
+  for (const auto& r : limits.harness_readable)
+    if (fs::exists(r, ec)) show(r, false);
+  // The program and every argument that names a file by its path (a script, a model)
+  // are shown alone; their folders only through `readable`.
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    const std::string& a = i == 0 ? program : argv[i];
+    if (!names_a_file(a)) continue;
+    const fs::path f = normal(a);
+    if (i > 0) argv[i] = f.string();
+    if (!inside(f, work_dir)) show(f, true);
+  }
+  // The output folder, where a shown folder holds it, covered by an empty one (the
+  // outermost only: bubblewrap would make a nested one's folder inside it).
+  for (const auto& h : hidden) {
+    bool nested = false;
+    for (const auto& o : hidden) nested = nested || (o != h && inside(h, o));
+    if (nested || !fs::is_directory(h, ec)) continue;
+    for (const auto& r : roots) {
+      if (!inside(h, r.real)) continue;
+      const fs::path at = normal(r.at / h.lexically_relative(r.real));
+      args.insert(args.end(), {"--tmpfs", at.string()});
+    }
+  }
+  args.insert(args.end(), {"--bind", work, work, "--chdir", work, "--setenv", "TMPDIR", work, "--setenv", "HOME", work});
+  for (const auto& [name, value] : limits.environment) args.insert(args.end(), {"--setenv", name, value});
+  args.insert(args.end(), {"--", program});
+  return args;
+}
+
+}  // namespace
+
+std::string find_program(const std::string& name) {
+  return find_program_where(name, [](const fs::path&) { return true; });
+}
+
+void hide_from_programs(const fs::path& folder) {
+  const fs::path h = resolved(folder);
+  std::lock_guard<std::mutex> lock(g_hidden_mutex);
+  for (const auto& known : g_hidden)
+    if (known == h) return;
+  g_hidden.push_back(h);
 }
 
 ConfinedProgram::ConfinedProgram(const std::vector<std::string>& argv, const fs::path& work_dir,
                                  const ProgramLimits& limits, int stdio)
     : output_cap_(limits.output_bytes) {
   if (argv.empty()) throw std::runtime_error("empty command");
-  const std::string program = find_program(argv[0]);
-  if (program.empty()) throw std::runtime_error("cannot start '" + argv[0] + "': not an executable file in PATH");
   const std::string work = fs::absolute(work_dir).string();
   std::vector<std::string> args;
   if (limits.sandbox == ProgramLimits::Sandbox::Bwrap) {
@@ -164,15 +290,39 @@ ConfinedProgram::ConfinedProgram(const std::vector<std::string>& argv, const fs:
           "bubblewrap (bwrap) is not installed: run scripts/setup.sh, or set `sandbox: none` to run the program "
           "without the sandbox");
     }
-    args = {bwrap,          "--ro-bind", "/",      "/",       "--dev",           "/dev",           "--proc",
-            "/proc",        "--bind",    work,     work,      "--chdir",         work,             "--unshare-all",
-            "--die-with-parent", "--new-session", "--cap-drop", "ALL", "--setenv", "TMPDIR", work};
-    for (const auto& [name, value] : limits.environment) args.insert(args.end(), {"--setenv", name, value});
-    args.insert(args.end(), {"--", program});
+    // A name looked up in PATH only where the sandbox shows it (a shim in the user's
+    // home, say, would start and then miss its own files).
+    std::vector<fs::path> visible;
+    std::error_code ec;
+    for (const char* f : kSystemFolders)
+      if (fs::exists(f, ec)) visible.push_back(normal(fs::canonical(f, ec)));
+    for (const auto* list : {&limits.readable, &limits.harness_readable})
+      for (const auto& r : *list)
+        if (fs::exists(r, ec)) visible.push_back(normal(fs::canonical(r, ec)));
+    const std::string program = find_program_where(argv[0], [&](const fs::path& p) {
+      std::error_code e;
+      const fs::path real = fs::canonical(p, e);
+      if (e) return false;
+      for (const auto& v : visible)
+        if (inside(real, v)) return true;
+      return false;
+    });
+    if (program.empty()) {
+      const std::string elsewhere = find_program(argv[0]);
+      if (elsewhere.empty()) throw std::runtime_error("cannot start '" + argv[0] + "': not an executable file in PATH");
+      throw std::runtime_error("cannot start '" + argv[0] + "': found only at " + elsewhere +
+                               ", outside what the sandbox shows (the system's folders and `readable`): give the "
+                               "program's path, or add its folder to `readable`");
+    }
+    std::vector<std::string> shown = argv;
+    args = sandbox_arguments(bwrap, limits, work, shown, program);
+    args.insert(args.end(), shown.begin() + 1, shown.end());
   } else {
+    const std::string program = find_program(argv[0]);
+    if (program.empty()) throw std::runtime_error("cannot start '" + argv[0] + "': not an executable file in PATH");
     args = {program};
+    args.insert(args.end(), argv.begin() + 1, argv.end());
   }
-  args.insert(args.end(), argv.begin() + 1, argv.end());
 
   WardenPlan plan;
   plan.exec_path = args[0].c_str();

@@ -17,12 +17,23 @@
 namespace grapebench {
 
 struct ProgramLimits {
-  // bwrap: read-only root file system, `work_dir` the only writable folder, a private
-  // /tmp, /dev and /proc (its own PID namespace: the harness is not visible), no
-  // network, no capabilities. none: the same limits and cleanup without the sandbox
-  // (where user namespaces are not available).
+  // bwrap: the program sees only the system's folders (/usr, /etc and the /bin, /lib
+  // links), read-only; the files its command names by a path (holding a '/') and
+  // `readable`, read-only;
+  // `work_dir`, the only writable folder (also its HOME and TMPDIR); an empty /tmp; its
+  // own /dev and /proc (its own PID namespace: the harness is not visible); no network,
+  // no capabilities. Nothing else: not the user's home, not other programs' folders,
+  // not the run's output (hide_from_programs). none: the same limits and cleanup
+  // without the sandbox (where user namespaces are not available): it sees everything.
   enum class Sandbox { Bwrap, None };
   Sandbox sandbox = Sandbox::Bwrap;
+  // bwrap only: more files or folders it may read (absolute, or relative to the
+  // harness's working folder), e.g. the folder of a script's modules; refused where
+  // one lies inside a hidden folder.
+  std::vector<std::filesystem::path> readable;
+  // The same for the harness's own files it needs (a request inbox, a preloaded
+  // library, Blender's own folder): never refused.
+  std::vector<std::filesystem::path> harness_readable;
   double cpu_seconds = 300;     // RLIMIT_CPU of each of its processes, s
   double memory_mb = 8192;      // RLIMIT_AS of each of its processes (address space), MB
   double file_mb = 1024;        // RLIMIT_FSIZE: largest file it may write, MB
@@ -82,5 +93,10 @@ class ConfinedProgram {
 
 // Where `name` is found in PATH (or `name` itself when it holds a '/'); "" when not.
 std::string find_program(const std::string& name);
+
+// Folders no sandboxed program may see, whatever its `readable` says (the run's
+// --out: case files and truth): each is covered by an empty folder in its view.
+// Process-wide; thread-safe.
+void hide_from_programs(const std::filesystem::path& folder);
 
 }  // namespace grapebench

@@ -1,8 +1,13 @@
 #include "synth/io.h"
 
+#include "synth/utf8.h"
+
 #include <unistd.h>
 
 #include <fstream>
+#include <set>
+#include <stdexcept>
+#include <vector>
 
 #include "synth/config.h"
 
@@ -29,6 +34,8 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view bytes
 }
 
 nlohmann::json parse_json_bounded(std::string_view text, int max_depth) {
+  if (const std::size_t at = invalid_utf8_at(text); at != std::string_view::npos)
+    throw std::runtime_error("not UTF-8 at byte " + std::to_string(at));
   // A cheap pre-pass: brackets outside strings (the parser's callback would build the
   // deep value before it could refuse it).
   int depth = 0;
@@ -46,7 +53,18 @@ nlohmann::json parse_json_bounded(std::string_view text, int max_depth) {
       --depth;
     }
   }
-  return nlohmann::json::parse(text);
+  // Duplicate keys refused (nlohmann keeps the last: a baseline with a key twice
+  // passed on the second's value).
+  std::vector<std::set<std::string>> keys;
+  const auto refuse_duplicates = [&keys](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if (event == E::object_start) keys.emplace_back();
+    if (event == E::object_end && !keys.empty()) keys.pop_back();
+    if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
+      throw std::runtime_error("the key '" + parsed.get<std::string>() + "' is given twice in one object");
+    return true;
+  };
+  return nlohmann::json::parse(text, refuse_duplicates);
 }
 
 namespace {

@@ -19,8 +19,8 @@ namespace grapebench {
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes);
 
 // Parses JSON text nested at most `max_depth` deep (a hostile file a million arrays
-// deep would overflow the stack further on). Throws nlohmann's parse_error, or
-// std::runtime_error "nested deeper than N".
+// deep would overflow the stack further on) and UTF-8 throughout. Throws nlohmann's
+// parse_error, or std::runtime_error "nested deeper than N" / "not UTF-8 at byte N".
 nlohmann::json parse_json_bounded(std::string_view text, int max_depth = 64);
 
 nlohmann::ordered_json params_json(const BunchParams& p);

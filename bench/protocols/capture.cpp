@@ -2,6 +2,7 @@
 
 #include "synth/generate.h"
 #include "synth/rng.h"
+#include "synth/utf8.h"
 
 namespace grapebench {
 
@@ -50,7 +51,7 @@ CaseResult measure_views(const Condition& condition, int condition_index, const 
     r.ok = true;
   } catch (const std::exception& e) {
     r.ok = false;
-    r.error = e.what();
+    r.error = escape_invalid_utf8(e.what());
   }
   return r;
 }

@@ -12,6 +12,7 @@
 #include "sensors/mvs_reconstruction.h"
 #include "synth/generate.h"
 #include "synth/rng.h"
+#include "synth/utf8.h"
 
 namespace grapebench {
 
@@ -373,7 +374,7 @@ CaseResult run_classification(const Condition& condition, int condition_index, c
     r.ok = true;
   } catch (const std::exception& e) {
     r.ok = false;
-    r.error = e.what();
+    r.error = escape_invalid_utf8(e.what());
   }
   return r;
 }

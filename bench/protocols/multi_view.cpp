@@ -4,6 +4,7 @@
 #include "bench/case_result.h"
 #include "bench/protocols/capture.h"
 #include "sensors/visibility_hull.h"
+#include "synth/utf8.h"
 
 #include <algorithm>
 #include <chrono>
@@ -231,7 +232,7 @@ CaseResult run_multi_view(const Condition& condition, int condition_index, const
     r.ok = true;
   } catch (const std::exception& e) {
     r.ok = false;
-    r.error = e.what();
+    r.error = escape_invalid_utf8(e.what());
   }
   // Stage "estimate": every estimator on the registered cloud (failed rows when it
   // could not be made), then the rig's floor.

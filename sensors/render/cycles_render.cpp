@@ -237,9 +237,7 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   std::filesystem::remove(work / "colour.f32");
   std::filesystem::remove(work / "index.i32");
 
-  ProgramLimits limits;
-  limits.sandbox = ProgramLimits::Sandbox::None;  // Blender is a trusted program; the limits and cleanup stay
-  limits.cpu_seconds = cycles.time_limit * (cycles.threads + 1);
+  const ProgramLimits limits = cycles_program_limits(cycles, blender);
   const auto t0 = std::chrono::steady_clock::now();
   ConfinedProgram blender_run({blender, "-b", "--factory-startup", "-noaudio", "-P", GRAPEBENCH_CYCLES_SCRIPT, "--",
                                (work / "scene.json").string()},
@@ -272,6 +270,18 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   return out;
 }
 
+ProgramLimits cycles_program_limits(const CyclesParams& cycles, const std::string& blender) {
+  ProgramLimits limits;
+  limits.sandbox = cycles.sandbox;
+  limits.cpu_seconds = cycles.time_limit * (cycles.threads + 1);
+  std::error_code ec;
+  const std::filesystem::path real = std::filesystem::canonical(blender, ec);  // through a link in PATH
+  const std::filesystem::path where = (ec ? std::filesystem::path(blender) : real).parent_path();
+  if (where.string().rfind("/usr/", 0) != 0) limits.harness_readable.push_back(where);  // a release tarball's folder
+  limits.harness_readable.emplace_back(GRAPEBENCH_CYCLES_SCRIPT);  // the source tree may lie under --out
+  return limits;
+}
+
 const ParamTable<CyclesParams>& cycles_param_table() {
   using P = CyclesParams;
   static const ParamTable<P> table =
@@ -281,7 +291,10 @@ const ParamTable<CyclesParams>& cycles_param_table() {
           .integer("threads", "count", &P::threads, 1, 256, "Cycles' render threads")
           .real("time_limit", "s", &P::time_limit, 1, 86400, "per image, Blender's start included; past it, stopped")
           .integer("leaf_texels", "count", &P::leaf_texels, 16, 2048,
-                   "texels per leaf side of the baked leaf atlas (veins 0.8 mm wide need about 0.3 mm texels)");
+                   "texels per leaf side of the baked leaf atlas (veins 0.8 mm wide need about 0.3 mm texels)")
+          .choice("sandbox", &P::sandbox, {{"bwrap", ProgramLimits::Sandbox::Bwrap}, {"none", ProgramLimits::Sandbox::None}},
+                  "bwrap: Blender sees the system's folders, its script and its work folder only (as every "
+                  "program the harness starts); none: where user namespaces are not available");
   return table;
 }
 

@@ -16,6 +16,7 @@
 #include "sensors/render/appearance.h"
 #include "sensors/render/develop_image.h"
 #include "sensors/render/illumination.h"
+#include "synth/confined_program.h"
 #include "synth/param_table.h"
 
 namespace grapebench {
@@ -25,8 +26,13 @@ struct CyclesParams {
   int threads = 2;            // Cycles' render threads, [1, 256]
   double time_limit = 600;    // s per image, Blender's start included, [1, 86400]
   int leaf_texels = 256;      // texels per leaf side in the leaf atlas, [16, 2048]
+  ProgramLimits::Sandbox sandbox = ProgramLimits::Sandbox::Bwrap;  // as every program the harness starts
 };
 const ParamTable<CyclesParams>& cycles_param_table();
+
+// How Blender is confined (synth/confined_program.h): `blender` is its path; a Blender
+// outside /usr is shown its own folder. Its script and scene are the files it is given.
+ProgramLimits cycles_program_limits(const CyclesParams& cycles, const std::string& blender);
 
 struct CyclesRenderResult {
   std::vector<float> linear;      // H x W x 3, radiance times pi (as ray_render's)

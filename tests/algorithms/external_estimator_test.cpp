@@ -3,6 +3,7 @@
 #include "algorithms/external_estimator.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 
@@ -114,6 +115,25 @@ TEST(ExternalProgram, PersistentProgramsAnswerLinesAndFailCleanly) {
             std::string::npos);
   EXPECT_NE(error_of([&] { external_estimate(cube(), shell("read line; echo not json", true)); }).find("not JSON"),
             std::string::npos);
+}
+
+// Issue 39's reproducer: a program's bytes that are not UTF-8 (on stderr, in a key or
+// a string of its answer, per request and persistent) ended the whole run with exit 3
+// when the case file was written. Each is now a failed request whose message is
+// UTF-8 (the bytes written \xNN); wrong types in an answer are refused too.
+TEST(ExternalProgram, BytesThatAreNotUtf8AreAFailedRequestWithAUtf8Message) {
+  const EstimatorInput in = cube();
+  const auto check = [&](const ExternalParams& p, const std::string& expected) {
+    const std::string e = error_of([&] { external_estimate(in, p); });
+    EXPECT_NE(e.find(expected), std::string::npos) << e;
+    EXPECT_NO_THROW((void)nlohmann::json(e).dump()) << e;
+  };
+  check(shell(R"(printf 'bad \377 bytes\n' >&2; exit 1)"), "bad \\xFF bytes");
+  check(shell(R"(printf '{"vol\377": 1}' > answer.json)"), "not UTF-8 at byte 5");
+  check(shell(R"(printf '{"volume": 0.001, "notes": "caf\351"}' > answer.json)"), "not UTF-8 at byte 31");
+  check(shell(R"(while read -r l; do printf '{"volume\377": 1}\n'; done)", true), "not UTF-8 at byte 8");
+  check(shell(R"(printf '{"volume": 0.001, "watertight": "yes"}' > answer.json)"), "'watertight' must be true or false");
+  check(shell(R"(printf '{"volume": 0.001, "notes": 7}' > answer.json)"), "'notes' must be a string");
 }
 
 }  // namespace

@@ -1,15 +1,21 @@
 // The command-line program: help documents every parameter; errors are clear.
+#include "algorithms/colmap_sfm.h"
 #include "bench/heap_meter.h"
 #include "file_text.h"
+#include "sensors/render/cycles_render.h"
+#include "synth/confined_program.h"
 #include "synth/params.h"
+#include "synth/temp_folder.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 
 #include <array>
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -27,8 +33,10 @@ struct CommandResult {
   int status;
 };
 
-CommandResult run_cli(const std::string& args) {
-  const std::string cmd = std::string(GRAPEBENCH_EXE) + " " + args + " 2>&1";
+// `limit_s` > 0: killed after that many seconds (exit 124, as timeout(1) says).
+CommandResult run_cli(const std::string& args, int limit_s = 0) {
+  const std::string cmd = (limit_s > 0 ? "timeout -k 5 " + std::to_string(limit_s) + " " : std::string()) +
+                          std::string(GRAPEBENCH_EXE) + " " + args + " 2>&1";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
   std::string out;
   std::array<char, 4096> buf;
@@ -258,6 +266,216 @@ TEST(Cli, AHostileExternalProgramChangesNothingAndLeavesNothingRunning) {
   EXPECT_EQ(survivors, 0);
 }
 
+// Issue 39's reproducer: bubblewrap showed the whole file system read-only, and an
+// external program found another case's files of the same run and answered the exact
+// volumes. A program that hunts for the truth (tests/bench/data/truth_search.sh: the
+// run's --out, another run's truth, the user's home, the scene, other programs'
+// folders, the harness in /proc, files named like cases or truth anywhere) now finds
+// none of it, per case and persistent, even with `readable` holding the --out folder;
+// the same program without the sandbox finds them all (so the search can fail).
+TEST(Cli, ASandboxedProgramFindsNoTruth) {
+  if (std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
+  namespace fs = std::filesystem;
+  // `shared` (readable by the programs) holds --out; the other run's folder is elsewhere.
+  const fs::path shared = fs::absolute("grapebench_truth_search"), out = shared / "out",
+                 other = "/tmp/grapebench_truth_other";
+  fs::remove_all(shared);
+  fs::remove_all(other);
+  fs::create_directories(other);
+  fs::create_directories(shared);
+  std::ofstream(other / "ground_truth.json") << "{\"volume_m3\": 0.0004}\n";
+  std::ofstream(shared / "module.py") << "# a module the program may read\n";
+  const char* home = std::getenv("HOME");
+  const fs::path scene = fs::absolute("grapebench_truth_scene.yaml");
+  const std::string script = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/truth_search.sh";
+  // Places to look, as "@path" (a path argument would be shown to it as a named file).
+  const std::string targets = "\"@" + out.string() + "\", \"@" + other.string() + "\", \"@" + scene.string() + "\"" +
+                              (home && *home ? ", \"@" + std::string(home) + "\"" : std::string());
+  std::ofstream(scene) << "name: truth\nseed: 5\nbunches:\n  - preset: table-red\n    count: 2\n"
+                          "sensor:\n  type: ideal\n  width: 120\n  height: 90\n"
+                          "rig:\n  type: turntable\n  views: 2\n  step_deg: 180\n  distance: 0.6\n"
+                          "pipeline:\n  registration: true_poses\nestimators:\n"
+                          "  - type: external\n    name: percase\n    readable: [\""
+                       << shared.string() << "\"]\n    command: [/bin/sh, " << script << ", --find, \"--own="
+                       << shared.string() << "\", " << targets
+                       << "]\n  - type: external\n    name: persistent\n    version: 2\n    persistent: true\n"
+                          "    command: [/bin/sh, "
+                       << script << ", --find, --persistent, " << targets
+                       << "]\n  - type: external\n    name: open\n    sandbox: none\n    command: [/bin/sh, " << script
+                       << ", " << targets << "]\n";
+  const CommandResult r = run_cli("run " + scene.string() + " --out " + out.string() + " --threads 2 -q");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::string csv = slurp((out / "truth" / "results.csv").string());
+  const auto notes_of = [&](const std::string& name) {
+    std::vector<std::string> all;
+    std::istringstream lines(csv);
+    for (std::string line; std::getline(lines, line);)
+      if (line.find("," + name + ",external,") != std::string::npos) all.push_back(line.substr(line.rfind(',') + 1));
+    return all;
+  };
+  for (const char* name : {"percase", "persistent"}) {
+    const auto notes = notes_of(name);
+    ASSERT_EQ(notes.size(), 2u) << name << "\n" << csv;
+    for (const auto& n : notes) EXPECT_EQ(n, "found: none") << name;
+  }
+  const auto open = notes_of("open");
+  ASSERT_EQ(open.size(), 2u) << csv;
+  for (const std::string& seen : {out.string(), other.string(), scene.string(), std::string("/cmdline")})
+    EXPECT_NE(open[0].find(seen), std::string::npos) << seen << " in " << open[0];
+  fs::remove_all(other);
+}
+
+// Issue 39: every other program the harness starts (COLMAP's steps, Blender) runs
+// under the same sandbox, built by the limits its own code uses: the hunter run with
+// those limits finds no planted truth, the user's home nor the harness; without the
+// sandbox it finds them.
+TEST(Cli, ColmapAndBlenderSeeNoTruthEither) {
+  if (std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
+  namespace fs = std::filesystem;
+  const fs::path planted = "/tmp/grapebench_truth_planted";
+  fs::create_directories(planted / "cases");
+  std::ofstream(planted / "cases" / "c0000_b0000.json") << "{}\n";
+  const char* home = std::getenv("HOME");
+  const auto hunt = [&](ProgramLimits limits) {
+    const TempFolder work("grapebench-hunt");
+    std::vector<std::string> argv = {"/bin/sh", GRAPEBENCH_SOURCE_DIR "/tests/bench/data/truth_search.sh", "--find",
+                                     "@" + planted.string(), "@" + fs::current_path().string()};
+    if (home && *home) argv.push_back("@" + std::string(home));
+    for (const auto& f : limits.harness_readable) argv.push_back("--own=" + f.string());  // the shim, Blender's files
+    if (limits.sandbox == ProgramLimits::Sandbox::None) argv.erase(argv.begin() + 2);  // no walk of the whole disk
+    ConfinedProgram prog(argv, work.path, limits);
+    EXPECT_EQ(prog.wait(ConfinedProgram::Clock::now() + std::chrono::seconds(60)), ConfinedProgram::End::Exited);
+    return slurp((work.path / "answer.json").string());
+  };
+  ColmapParams colmap;
+  CyclesParams cycles;
+  const std::string blender = find_program("blender").empty() ? "/usr/bin/blender" : find_program("blender");
+  for (const ProgramLimits& limits : {colmap_program_limits(colmap), cycles_program_limits(cycles, blender)}) {
+    EXPECT_NE(hunt(limits).find("\"found: none\""), std::string::npos) << hunt(limits);
+    ProgramLimits open = limits;
+    open.sandbox = ProgramLimits::Sandbox::None;
+    EXPECT_NE(hunt(open).find(planted.string()), std::string::npos);
+  }
+  fs::remove_all(planted);
+}
+
+// Issue 39, item 4: exit 3 never comes from input. Every subcommand meets a corpus of
+// hostile inputs (special files, text that is not UTF-8, an alias bomb, duplicate keys,
+// numbers past their ranges, clouds with trailing data or coordinates no float holds)
+// and answers 0, 1 (a gate's verdict) or 2 (a clear error) within 30 s.
+TEST(Cli, EverySubcommandAnswersHostileInputWithExitTwoNotACrashOrHang) {
+  namespace fs = std::filesystem;
+  const fs::path dir = "/tmp/grapebench_hostile_" + std::to_string(getpid()), out = dir / "out";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "folder.yaml");
+  const auto put = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(dir / name, std::ios::binary) << bytes;
+    return (dir / name).string();
+  };
+  std::vector<std::string> yaml, json, cloud;
+  for (const char* ext : {"yaml", "json", "ply"}) {
+    const fs::path fifo = dir / (std::string("fifo.") + ext), zero = dir / (std::string("zero.") + ext);
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    fs::create_symlink("/dev/zero", zero);
+    auto& list = ext == std::string("yaml") ? yaml : ext == std::string("json") ? json : cloud;
+    list.insert(list.end(), {fifo.string(), zero.string(), put(std::string("empty.") + ext, "")});
+  }
+  yaml.push_back((dir / "folder.yaml").string());
+  const std::string body = "seed: 5\nbunches:\n  - preset: table-red\nestimators:\n  - type: convex_hull\n";
+  yaml.push_back(put("latin1.yaml", "# caf\xE9\n" + body));
+  yaml.push_back(put("utf16.yaml", std::string("\xFF\xFE", 2) + std::string("s\0e\0", 4)));
+  std::string bomb = "l0: &l0 [x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i < 10; ++i) {
+    bomb += "l" + std::to_string(i) + ": &l" + std::to_string(i) + " [";
+    for (int k = 0; k < 9; ++k) bomb += (k ? ", *l" : "*l") + std::to_string(i - 1);
+    bomb += "]\n";
+  }
+  yaml.push_back(put("bomb.yaml", bomb + body));
+  yaml.push_back(put("nul.yaml", "name: \"a\\0b\"\n" + body));
+  std::string many = "seed: 5\nbunches:\n  - preset: table-red\nestimators:\n";
+  for (int i = 0; i < 300; ++i) many += "  - {type: convex_hull, name: e" + std::to_string(i) + "}\n";
+  yaml.push_back(put("many.yaml", many));
+  const std::string baseline = slurp(GRAPEBENCH_SOURCE_DIR "/results/baseline/default.json");
+  std::string huge = baseline, twice = baseline;
+  huge.replace(huge.find("\"rmse_rel\": 0.05"), 16, "\"rmse_rel\": 1e308");
+  twice.replace(twice.find("\"scene\""), 7, "\"scene\": \"x\", \"scene\"");
+  json.insert(json.end(), {put("latin1.json", "{\"scene\": \"caf\xE9\"}"), put("huge.json", huge),
+                           put("twice.json", twice), put("deep.json", std::string(100000, '[')),
+                           put("notime.json", "{\"benchmarks\": [{\"name\": \"a\", \"real_time\": 5}]}")});
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                          "end_header\n0 0 0\n0.1 0 0\n0 0.1 0\n";
+  cloud.insert(cloud.end(), {put("huge.ply", ply + "1e39 0 0.1\n"), put("far.ply", ply + "1e308 0 0.1\n"),
+                             put("trailing.ply", ply + "0 0 0.1\n0.1 0.1 0.1\n"),
+                             put("latin1.ply", ply + "0 0 0.1 caf\xE9\n")});
+  const std::string good_bench = GRAPEBENCH_SOURCE_DIR "/tests/fuzz/corpus/bench_json/bench.json",
+                    good_base = GRAPEBENCH_SOURCE_DIR "/results/baseline/default.json",
+                    gate = GRAPEBENCH_SOURCE_DIR "/results/baseline/speed_gate.json";
+  // Each file through one subcommand of its reader (`run`: the scene reader `synth`,
+  // `scan` and `merge` share; `check`: the JSON reader of every JSON input), and
+  // every subcommand and input position meets the special files and the alias bomb
+  // (a process start is 0.4 s, most of it the dynamic loader: the matrix is kept small).
+  std::vector<std::string> commands;
+  for (const auto& f : yaml) commands.push_back("run " + f + " --out " + out.string() + " -q");
+  for (const auto& f : json) commands.push_back("check " + f + " --baseline " + good_base);
+  for (const auto& f : cloud) commands.push_back("estimate " + f + " -e convex_hull");
+  for (const std::string& f : {yaml[0], yaml[1], (dir / "bomb.yaml").string()})
+    for (const std::string& c : {"synth " + f + " --out " + out.string(), "scan " + f + " --out " + out.string(),
+                                 "merge " + f + " --from " + out.string() + " --out " + (dir / "merged").string()})
+      commands.push_back(c);
+  for (const std::string& f : {json[0], json[1]})
+    for (const std::string& c : {"check " + good_base + " --baseline " + f, "compare-bench " + f + " " + good_bench,
+                                 "compare-bench " + good_bench + " " + f, "speed-gate " + f + " " + good_bench,
+                                 "speed-gate " + gate + " " + f})
+      commands.push_back(c);
+  for (const std::string& f : {json[2], (dir / "twice.json").string(), (dir / "latin1.json").string(),
+                               (dir / "notime.json").string()})
+    commands.push_back("compare-bench " + good_bench + " " + f);
+  std::vector<CommandResult> results(commands.size());
+  std::atomic<std::size_t> next{0};
+  const auto worker = [&] {
+    for (std::size_t i; (i = next++) < commands.size();) results[i] = run_cli(commands[i], 30);
+  };
+  std::thread a(worker), b(worker);
+  a.join();
+  b.join();
+  for (std::size_t i = 0; i < commands.size(); ++i) {
+    const int st = results[i].status;
+    EXPECT_TRUE(st == 0 || st == 1 || st == 2) << commands[i] << " -> exit " << st << "\n" << results[i].out;
+    if (st == 2) {
+      EXPECT_NE(results[i].out.find("/tmp/grapebench_hostile_"), std::string::npos) << commands[i] << "\n" << results[i].out;
+    }
+  }
+  fs::remove_all(dir);
+}
+
+// Issue 39's reproducer: two scene files with the same `name` on one --out both exited
+// 0, the second's results replacing the first's. The second is refused while the
+// first's run is there; the first (edited, even) runs on; another `name` is fine.
+TEST(Cli, ASecondSceneOfTheSameNameIsRefusedOnOneOut) {
+  namespace fs = std::filesystem;
+  const fs::path dir = "/tmp/grapebench_cli_twins", out = dir / "out";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "a");
+  fs::create_directories(dir / "b");
+  const std::string scene = "name: twin\nseed: 3\nbunches:\n  - preset: table-red\n    count: 1\n"
+                            "sensor:\n  type: ideal\n  width: 80\n  height: 60\n"
+                            "rig:\n  type: turntable\n  views: 2\n  step_deg: 180\n  distance: 0.6\n"
+                            "pipeline:\n  registration: true_poses\nestimators:\n  - type: convex_hull\n";
+  std::ofstream(dir / "a" / "twin.yaml") << scene;
+  std::ofstream(dir / "b" / "twin.yaml") << scene << "  - type: pca_box\n";
+  ASSERT_EQ(run_cli("run " + (dir / "a" / "twin.yaml").string() + " --out " + out.string() + " -q").status, 0);
+  const CommandResult second = run_cli("run " + (dir / "b" / "twin.yaml").string() + " --out " + out.string() + " -q");
+  EXPECT_EQ(second.status, 2) << second.out;
+  EXPECT_NE(second.out.find("holds the run of " + (dir / "a" / "twin.yaml").string()), std::string::npos) << second.out;
+  EXPECT_NE(second.out.find("another `name`, or another --out"), std::string::npos) << second.out;
+  std::ofstream(dir / "a" / "twin.yaml", std::ios::app) << "  - type: pca_box\n";  // the same file, edited
+  EXPECT_EQ(run_cli("run " + (dir / "a" / "twin.yaml").string() + " --out " + out.string() + " -q").status, 0);
+  EXPECT_EQ(run_cli("run " + (dir / "b" / "twin.yaml").string() + " --out " + (dir / "other").string() + " -q").status, 0);
+  fs::remove_all(dir);
+}
+
 // Issue 23's reproducer: resume checked only a case file's key, so edited estimates,
 // truths, `ok` flags or rows were reused silently. Each edit now fails the digest:
 // the case is recomputed and the run says so.
@@ -356,7 +574,7 @@ TEST(Cli, MalformedBaselinesAndCaseFilesAreErrorsNotCrashes) {
        "a baseline of 'other'"},
       {"{\"scene\": \"two_bunches_hull\", \"tolerances\": {\"rmse_rel\": -1}, \"scores\": [{\"condition\": \"\", "
        "\"estimator\": \"CH\", \"quantity\": \"volume\"}]}",
-       "'tolerances.rmse_rel' must be a finite number >= 0"}};
+       "'tolerances.rmse_rel' must be a number in [0, 10]"}};
   for (const auto& [text, message] : baselines) {
     std::ofstream(dir / "baseline.json") << text;
     const CommandResult r = run_cli("check " + run + " --baseline " + (dir / "baseline.json").string());

@@ -149,6 +149,19 @@ TEST(CloudFile, MalformedFilesNameFileLineAndWhatWasAllowed) {
   expect_error(pcd + "DATA binary\n" + std::string(20, '\0'), "pcd", {"promises 2", "at most 1"});
   expect_error(pcd + "POINTS 2\nDATA ascii\n", "pcd", {"bad.pcd:8", "POINTS given twice"});
   expect_error("x", "obj", {"unknown point-cloud format 'obj'"});
+
+  // Issue 39's reproducers: each was accepted (the tail ignored, the property read
+  // twice) or reached PCL, whose float kd-tree aborted the process on 1e39.
+  expect_error(head + "end_header\n1 2 3\n1 2 3\n4 5 6\n", "ply", {"bad.ply: line 10: data after the records"});
+  expect_error("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float x\nproperty float z\n"
+               "end_header\n1 2 3\n", "ply", {"bad.ply:5", "property x given twice"});
+  expect_error(head + "end_header\n1 2 3\n1e39 0 0\n", "ply", {"point 1 at (1e+39, 0, 0) m", "within +-10000 m"});
+  expect_error(head + "end_header\n1 2 3\n0 1e308 0\n", "ply", {"point 1", "within +-10000 m"});
+  expect_error("ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+               "property float z\nend_header\n1.25 2.5 3.5\n", "ply", {"1 bytes after the records", "a text body under a binary header"});
+  expect_error(pcd + "DATA ascii\n1 2 3\n4 5 6\n7 8 9\n", "pcd", {"line 11: data after the 2 points"});
+  expect_error("VERSION .7\nFIELDS x y x\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3\n", "pcd",
+               {"bad.pcd:2", "FIELDS: x given twice"});
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // The harness: sweeps, strict estimator sections, resume, shards, determinism, check.
 #include "bench/heap_meter.h"
 
+#include "synth/io.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -84,6 +86,11 @@ TEST(Sweep, BadValuesNameTheLineTheyWereWrittenOn) {
   EXPECT_NE(unknown.find("nosie_scale"), std::string::npos) << unknown;
   EXPECT_NE(scene_error(std::string(kScene) + "sweep:\n  rig.views: {from: 1, to: 4}\n").find("from, to and step"),
             std::string::npos);
+  // Issue 39's reproducer: estimators[-1] was read as "every estimator", [1x] as [1].
+  for (const char* key : {"estimators[-1].alpha", "estimators[1x].alpha"}) {
+    const std::string e = scene_error(std::string(kScene) + "sweep:\n  " + key + ": [1, 2]\n");
+    EXPECT_NE(e.find("bad index in"), std::string::npos) << key << " -> " << e;
+  }
 }
 
 // Issue 23's reproducer: a list of 1,000 sweep values took 184 s to expand (2,000:
@@ -379,6 +386,29 @@ TEST(Check, FailsOnAPerturbedBaselineAndPassesOnTheTrueOne) {
   fewer["scores"].erase(0);
   EXPECT_TRUE(check_against_baseline(summary, fewer).pass);
   EXPECT_FALSE(check_against_baseline(fewer, summary).pass);
+}
+
+// Issue 39's reproducers: `check` passed with a baseline holding a key twice (the last
+// won), a tolerance of 1e308 or null. Each is refused, naming the key and the range.
+TEST(Check, BaselinesWithDuplicateKeysOrToleranceOutOfRangeAreRefused) {
+  EXPECT_THROW((void)parse_json_bounded(R"({"scene": "a", "scores": [], "scene": "b"})"), std::runtime_error);
+  EXPECT_THROW((void)parse_json_bounded(R"({"scores": [{"rmse": 1, "rmse": 2}]})"), std::runtime_error);
+  EXPECT_NO_THROW((void)parse_json_bounded(R"({"a": {"x": 1}, "b": {"x": 1}})"));
+  const auto summary = nlohmann::json::parse(
+      R"({"scene": "s", "scores": [{"condition": "", "estimator": "CH", "quantity": "volume", "rmse": 1}]})");
+  for (const char* t : {R"({"rmse_rel": 1e308})", R"({"rmse_rel": null})", R"({"success_rate_abs": -0.1})",
+                        R"({"success_rate_abs": 1.5})"}) {
+    nlohmann::json baseline = summary;
+    baseline["tolerances"] = nlohmann::json::parse(t);
+    std::string error;
+    try {
+      (void)check_against_baseline(summary, baseline, "run", "base.json");
+    } catch (const InputError& e) {
+      error = e.what();
+    }
+    EXPECT_NE(error.find("base.json: 'tolerances."), std::string::npos) << t << " -> " << error;
+    EXPECT_NE(error.find("must be a number in [0, "), std::string::npos) << t << " -> " << error;
+  }
 }
 
 // The per-protocol gates (scripts/regression_gate.sh): seed 004's classification rows

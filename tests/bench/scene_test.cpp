@@ -70,6 +70,18 @@ TEST(Scene, StrictYamlAndSafeNames) {
       {"name: /tmp/x\nseed: 5\nbunches:\n  - preset: table-red\n", "'/tmp/x' is not a safe folder name"},
       {"name: a b\nseed: 5\nbunches:\n  - preset: table-red\n", "'a b' is not a safe folder name"},
       {"name: " + std::string(101, 'a') + "\nseed: 5\nbunches:\n  - preset: table-red\n", "is not a safe folder name"},
+      // Issue 39: a Latin-1 comment or a UTF-16 file ran every case and then exited 3
+      // writing the manifest; a billion-laughs document (aliases of aliases) ran for
+      // minutes. Both refused at once.
+      {"seed: 5\nbunches:\n  - preset: table-red\n# caf\xE9\n", "scene.yaml:4: not UTF-8 (byte 44, 0xE9)"},
+      {std::string("\xFF\xFEs\0e\0", 6), "scene.yaml:1: not UTF-8 (byte 0, 0xFF)"},
+      {"l0: &a [x, x, x, x, x, x, x, x, x]\nl1: &b [*a, *a, *a, *a, *a, *a, *a, *a, *a]\n"
+       "l2: [*b, *b, *b, *b, *b, *b, *b, *b, *b]\nseed: 5\nbunches:\n  - preset: table-red\n",
+       "scene.yaml:2: a YAML alias (*name): not supported"},
+      {"seed: 5\nbunches:\n  - &p {preset: table-red}\n  - *p\n", "scene.yaml:4: a YAML alias"},
+      {"seed: 5\nbunches:\n  - {preset: table-red, count: 100000}\n  - {preset: table-red, count: 100000}\n"
+       "sweep:\n  seed: [1, 2, 3, 4, 5, 6]\n", "the scene expands to 1200000 cases (6 sweep points x 200000 bunches); at most 1000000"},
+      {"name: \"a\\0b\"\nseed: 5\nbunches:\n  - preset: table-red\n", "'a\\x00b' is not a safe folder name"},
   };
   for (const auto& c : cases) {
     const std::string error = scene_error(c.yaml);

@@ -144,6 +144,66 @@ TEST(ConfinedBwrap, WritesStayInTheWorkFolderAndTheHarnessIsOutOfSight) {
   EXPECT_LE(std::stoi(read_text(work / "pids.txt")), 4);                        // bwrap's init, sh, ls, grep
 }
 
+// Issue 39: the sandbox showed the whole file system. Now a program sees the system's
+// folders, the files its command names, `readable` (less what hide_from_programs
+// hides inside it) and its work folder, which is also its HOME; a program found in
+// PATH only outside that view is refused with where it was found.
+TEST(ConfinedBwrap, OnlyTheSystemItsFilesAndReadableAreSeen) {
+  if (!bwrap_runs()) GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
+  const fs::path work = fresh_dir("view-work"), shown = fresh_dir("view-shown"), unseen = fresh_dir("view-unseen");
+  fs::create_directories(shown / "out");
+  std::ofstream(shown / "a.txt") << "shown\n";
+  std::ofstream(shown / "out" / "truth.json") << "{}\n";
+  std::ofstream(unseen / "b.txt") << "unseen\n";
+  std::ofstream(unseen / "named.txt") << "named\n";
+  hide_from_programs(shown / "out");
+  ProgramLimits limits;
+  limits.readable = {shown};
+  const std::string script = "cat '" + (shown / "a.txt").string() + "' > a; ls -A '" + (shown / "out").string() +
+                             "' > out; cat '" + (unseen / "b.txt").string() + "' > b 2>/dev/null; cat \"$1\" > named; "
+                             "echo \"$HOME\" > home";
+  ConfinedProgram prog({"/bin/sh", "-c", script, "sh", (unseen / "named.txt").string()}, work, limits);
+  ASSERT_EQ(prog.wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::Exited);
+  EXPECT_EQ(read_text(work / "a"), "shown\n");
+  EXPECT_EQ(read_text(work / "out"), "");  // hidden: an empty folder
+  EXPECT_EQ(read_text(work / "b"), "");    // not shown
+  EXPECT_EQ(read_text(work / "named"), "named\n");
+  EXPECT_EQ(read_text(work / "home"), work.string() + "\n");
+
+  ProgramLimits inside = limits;
+  inside.readable = {shown / "out"};
+  EXPECT_THROW(
+      {
+        try {
+          ConfinedProgram p({"/bin/true"}, work, inside);
+        } catch (const std::runtime_error& e) {
+          EXPECT_NE(std::string(e.what()).find("output folder"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      std::runtime_error);
+
+  // A program in PATH outside the view (a shim in a home, say).
+  const fs::path bin = fresh_dir("view-bin");
+  std::ofstream(bin / "gbprog") << "#!/bin/sh\necho ran > ran\n";
+  fs::permissions(bin / "gbprog", fs::perms::owner_all);
+  const std::string saved = std::getenv("PATH") ? std::getenv("PATH") : "";
+  setenv("PATH", (bin.string() + ":" + saved).c_str(), 1);
+  std::string error;
+  try {
+    ConfinedProgram p({"gbprog"}, work, ProgramLimits{});
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find("found only at " + (bin / "gbprog").string()), std::string::npos) << error;
+  ProgramLimits with_bin;
+  with_bin.readable = {bin};
+  ConfinedProgram ran({"gbprog"}, work, with_bin);
+  setenv("PATH", saved.c_str(), 1);
+  ASSERT_EQ(ran.wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::Exited);
+  EXPECT_EQ(read_text(work / "ran"), "ran\n");
+}
+
 TEST(ConfinedBwrap, WithoutBwrapTheErrorSaysHowToOptOut) {
   const char* old = std::getenv("PATH");
   const std::string saved = old ? old : "";

@@ -57,6 +57,12 @@ void with_fake_blender(const std::string& script, F body) {
   unsetenv("GRAPEBENCH_BLENDER");
 }
 
+// Blender runs under bubblewrap where it can make namespaces (some containers cannot).
+ProgramLimits::Sandbox sandbox_here() {
+  static const bool bwrap = std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") == 0;
+  return bwrap ? ProgramLimits::Sandbox::Bwrap : ProgramLimits::Sandbox::None;
+}
+
 std::string failure_of(const Fixture& f, const CyclesParams& cp, const std::filesystem::path& work) {
   try {
     cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 1, work);
@@ -82,6 +88,7 @@ TEST(CyclesRender, MissingBlenderIsABadInputNamingThePackage) {
 TEST(CyclesRender, ACrashAnOverrunAndAWrongAnswerAreNamedFailures) {
   const Fixture f(40, 30);
   CyclesParams cp;
+  cp.sandbox = sandbox_here();
   cp.leaf_texels = 16;  // the export's leaf atlas is not what is tested here
   with_fake_blender("echo 'Segmentation fault' >&2; kill -SEGV $$", [&](const std::filesystem::path& dir) {
     const std::string e = failure_of(f, cp, dir / "w1");
@@ -119,6 +126,7 @@ TEST(CyclesRender, TheIndexPassAgreesWithTheExactLabelsAndThreadsDoNotMatter) {
   if (!have_blender()) GTEST_SKIP() << "Blender not installed (Debian package `blender`; scripts/setup.sh installs it)";
   const Fixture f(200, 150);
   CyclesParams cp;
+  cp.sandbox = sandbox_here();
   cp.samples = 4;
   cp.threads = 2;
   cp.leaf_texels = 64;
