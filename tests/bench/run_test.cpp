@@ -409,6 +409,12 @@ TEST(Check, BaselinesWithDuplicateKeysOrToleranceOutOfRangeAreRefused) {
     EXPECT_NE(error.find("base.json: 'tolerances."), std::string::npos) << t << " -> " << error;
     EXPECT_NE(error.find("must be a number in [0, "), std::string::npos) << t << " -> " << error;
   }
+  // Found by the 10-minute fuzz run of baseline_fuzz: a classification row whose
+  // quantity is an integer (a key may be one) ended `check` with a type_error, exit 3.
+  const auto integer_key = nlohmann::json::parse(
+      R"({"scene": "s", "scores": [], "classification": [{"condition": "all", "estimator": "colour",
+          "quantity": 7516688919, "mean": 0.9}]})");
+  EXPECT_TRUE(check_against_baseline(integer_key, integer_key, "run", "base.json").pass);
 }
 
 // The per-protocol gates (scripts/regression_gate.sh): seed 004's classification rows
