@@ -12,6 +12,8 @@
 #include "algorithms/luo2016_stereo.h"
 #include "bench/protocols/stereo_pair.h"
 #include "sensors/camera.h"
+#include "sensors/render/develop_image.h"
+#include "sensors/render/ray_render.h"
 #include "sensors/stereo_rgb.h"
 #include "synth/foliage.h"
 #include "synth/generate.h"
@@ -87,6 +89,26 @@ void BM_StereoRenderRayFoliage(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(rig.capture(foliage_scene(), setup().pose, 5));
 }
 BENCHMARK(BM_StereoRenderRayFoliage)->Unit(benchmark::kMillisecond);
+
+// Issue 38's item 8 read literally: one `ray` image (the left camera: render and the
+// camera chain, no labels) against BM_StereoRender / BM_StereoRenderFoliage, the
+// OpenGL pair with its labels; the goal is a ratio at or under 1.
+void ray_image(benchmark::State& state, const RayScene& scene) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  StereoRgbParams p = setup().params;
+  p.renderer = StereoRgbParams::Renderer::Ray;
+  const Camera left{StereoRgb(p).intrinsics(), setup().pose};
+  const Illumination light = stereo_rgb_illumination(p, setup().pose);
+  for (auto _ : state) {
+    const RayRenderResult r = ray_render(scene, left, light, p.appearance, p.camera, p.focal_length_mm * 1e-3, 4);
+    benchmark::DoNotOptimize(develop_image(r.linear, left.K, p.camera, 2));
+    state.counters["rays_per_pixel"] = static_cast<double>(r.rays) / (left.K.width * left.K.height);
+  }
+}
+void BM_RayImage(benchmark::State& state) { ray_image(state, *setup().scene); }
+BENCHMARK(BM_RayImage)->Unit(benchmark::kMillisecond);
+void BM_RayImageFoliage(benchmark::State& state) { ray_image(state, foliage_scene()); }
+BENCHMARK(BM_RayImageFoliage)->Unit(benchmark::kMillisecond);
 
 void BM_Luo2016Pipeline(benchmark::State& state) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);

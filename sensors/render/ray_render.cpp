@@ -2,8 +2,10 @@
 
 #include <atomic>
 #include <cmath>
+#include <memory>
 #include <optional>
 
+#include "sensors/render/huge_page_buffer.h"
 #include "sensors/render/row_copies.h"
 #include "sensors/sensor.h"
 #include "synth/rng.h"
@@ -16,10 +18,12 @@ using C3 = Eigen::Array3d;
 C3 c3(const Rgb& c) { return {c.r, c.g, c.b}; }
 double luminance(const C3& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
 
-// An orthonormal frame about a unit vector.
+// An orthonormal frame about a unit vector, branch-free (Duff et al. 2017, "Building
+// an Orthonormal Basis, Revisited", JCGT 6(1)); Eigen's unitOrthogonal took a hypot.
 void frame(const Vec3& n, Vec3& t, Vec3& b) {
-  t = n.unitOrthogonal();
-  b = n.cross(t);
+  const double sign = std::copysign(1.0, n.z()), a = -1.0 / (sign + n.z()), c = n.x() * n.y() * a;
+  t = Vec3(1.0 + sign * n.x() * n.x() * a, sign * c, -sign * n.x());
+  b = Vec3(c, sign + n.y() * n.y() * a, -n.y());
 }
 Vec3 cosine_direction(const Vec3& n, double u1, double u2) {
   Vec3 t, b;
@@ -59,6 +63,22 @@ struct Sample {
   C3 direct = C3::Zero(), sky_front = C3::Zero(), sky_back = C3::Zero();
   C3 albedo = C3::Zero(), trans = C3::Zero();
 };
+
+// What a pixel keeps between the passes, in single precision: 88 bytes a pixel (the
+// double Sample and five more arrays were 280: a fresh 800 x 600 image spent a fifth
+// of its time in the kernel's page faults and in zero-filling them). Pass 2 replaces
+// the centre sample's terms by the pixel's means in place. Trivially destructible, so
+// it lives in huge pages (sensors/render/huge_page_buffer.h).
+struct Pixel {
+  std::uint64_t key;
+  float depth;
+  Eigen::Vector3f normal;
+  Eigen::Array3f direct, albedo, trans, front, back;
+};
+Pixel compact(const Sample& s) {
+  return {s.key, s.depth, s.normal.cast<float>(), s.direct.cast<float>(), s.albedo.cast<float>(),
+          s.trans.cast<float>(), s.sky_front.cast<float>(), s.sky_back.cast<float>()};
+}
 
 // Per-thread buffers of a batch.
 struct Scratch {
@@ -313,8 +333,11 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
     return cast;
   };
 
-  // Pass 1: one ray through each pixel's centre (the exact labels' ray).
-  std::vector<Sample> centre(npix);
+  // Pass 1: one ray through each pixel's centre (the exact labels' ray). Every pixel
+  // is written by the pass, so the buffer is left uninitialised.
+  const HugePageMemory centre_memory = huge_page_buffer(npix * sizeof(Pixel));
+  Pixel* const centre = static_cast<Pixel*>(centre_memory.get());
+  std::uninitialized_default_construct_n(centre, npix);
   std::atomic<std::uint64_t> rays{0};
   const PixelRays pr = cam.pixel_rays();
   for_rows(H, [&](int r0, int r1) {
@@ -329,12 +352,11 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
         ids.push_back((static_cast<std::uint64_t>(v) * W + u) * 128);
       }
       rays += shade(batch, ids, got, z);
-      std::copy(got.begin(), got.end(), centre.begin() + static_cast<long>(static_cast<std::size_t>(v) * W));
+      for (int u = 0; u < W; ++u) centre[static_cast<std::size_t>(v) * W + u] = compact(got[static_cast<std::size_t>(u)]);
     }
   });
   // Pass 2: pixels where what is seen changes within the 3 x 3 neighbourhood are
   // anti-aliased with samples^2 more rays, stratified and jittered over the pixel.
-  std::vector<C3> direct(npix), albedo(npix), trans(npix), front(npix), back(npix);
   for_rows(H, [&](int r0, int r1) {
     Scratch z;
     std::vector<Ray> batch;
@@ -365,8 +387,10 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
       std::size_t k = 0;
       for (int u = 0; u < W; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
-        const Sample& c = centre[i];
-        C3 d = c.direct, a = c.albedo, t = c.trans, f = c.sky_front, b = c.sky_back;
+        Pixel& c = centre[i];
+        if (k >= owner.size() || owner[k] != u) continue;  // no extra samples: the centre's terms stand
+        C3 d = c.direct.cast<double>(), a = c.albedo.cast<double>(), t = c.trans.cast<double>(),
+           f = c.front.cast<double>(), b = c.back.cast<double>();
         double m = 1, surfaces = c.key >= 2 ? 1 : 0;
         for (; k < owner.size() && owner[k] == u; ++k) {
           const Sample& g = got[k];
@@ -378,7 +402,8 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
         // light the mean over the samples that met a surface: their product is w rho L
         // (a mean over every sample would give w^2 rho L, a dark fringe at silhouettes).
         const double s = std::max(1.0, surfaces);
-        direct[i] = d / m, albedo[i] = a / m, trans[i] = t / m, front[i] = f / s, back[i] = b / s;
+        c.direct = (d / m).cast<float>(), c.albedo = (a / m).cast<float>(), c.trans = (t / m).cast<float>();
+        c.front = (f / s).cast<float>(), c.back = (b / s).cast<float>();
       }
     }
   });
@@ -391,8 +416,8 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
     for (int v = r0; v < r1; ++v) {
       for (int u = 0; u < W; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
-        const Sample& c = centre[i];
-        C3 f = front[i], b = back[i];
+        const Pixel& c = centre[i];
+        C3 f = c.front.cast<double>(), b = c.back.cast<double>();
         if (c.key >= 2) {
           const std::uint64_t part = c.key >> 40;
           C3 sf = C3::Zero(), sb = C3::Zero();
@@ -402,17 +427,17 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
               const int uu = u + du, vv = v + dv;
               if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
               const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
-              const Sample& o = centre[j];
+              const Pixel& o = centre[j];
               if (o.key < 2 || (o.key >> 40) != part) continue;
-              const double nd = std::max(0.0, c.normal.dot(o.normal)), n2 = nd * nd, n4 = n2 * n2;
+              const double nd = std::max(0.0, static_cast<double>(c.normal.dot(o.normal))), n2 = nd * nd, n4 = n2 * n2;
               const double dz = (o.depth - c.depth) / (0.01 * c.depth + 1e-4);
               if (dz * dz > 9) continue;  // beyond 3 sd: no weight worth an exp
-              const double w = n4 * n4 * std::exp(-0.5 * dz * dz);
-              sf += w * front[j], sb += w * back[j], sw += w;
+              const double w = n4 * n4 * std::exp(static_cast<float>(-0.5 * dz * dz));  // float: a third of the pass
+              sf += w * o.front.cast<double>(), sb += w * o.back.cast<double>(), sw += w;
             }
           if (sw > 0) f = sf / sw, b = sb / sw;
         }
-        const C3 px = M_PI * (direct[i] + albedo[i] * f + trans[i] * b);  // radiance times pi
+        const C3 px = M_PI * (c.direct.cast<double>() + c.albedo.cast<double>() * f + c.trans.cast<double>() * b);  // radiance times pi
         for (int ch = 0; ch < 3; ++ch) out.linear[3 * i + ch] = static_cast<float>(px[ch]);
       }
     }
