@@ -62,6 +62,7 @@ struct Sample {
   Vec3 normal = Vec3::Zero();
   C3 direct = C3::Zero(), sky_front = C3::Zero(), sky_back = C3::Zero();
   C3 albedo = C3::Zero(), trans = C3::Zero();
+  bool sky_reused = false;  // an edge sample on its pixel's centre object: the centre's sky light stands for it
 };
 
 // What a pixel keeps between the passes, in single precision: 88 bytes a pixel (the
@@ -185,9 +186,13 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
                       s_mir = derive_seed(seed, 15);
   const Vec3 optical_axis = cam.pose.linear().col(2);
 
-  // Shades a batch of camera rays; `ids` number the samples for the hashed draws.
+  // Shades a batch of camera rays; `ids` number the samples for the hashed draws. A
+  // sample that meets the object `reuse_key` names (its pixel's centre object) casts
+  // no sky rays: the centre's estimate of the same surface's sky light, a pixel away,
+  // stands for it (and is filtered over 5 x 5 pixels after): a third of the edge
+  // samples' rays in foliage, measured in docs/sensors.md.
   const auto shade = [&](const std::vector<Ray>& rays, const std::vector<std::uint64_t>& ids, std::vector<Sample>& out,
-                         Scratch& z) {
+                         Scratch& z, const std::uint64_t* reuse_key) {
     const std::size_t n = rays.size();
     std::uint64_t cast = n;
     rs.intersect(rays, z.hits);
@@ -242,10 +247,13 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
         z.to.push_back(start + 50.0 * sd);
       }
       if (ground[i]) continue;
+      s.sky_reused = reuse_key != nullptr && reuse_key[i] == s.key;
       // Sky rays, cosine-weighted about each face that reflects (front) or transmits (back).
-      z.front_of[i] = static_cast<int>(z.sky_rays.size());
-      z.sky_rays.push_back({p + 1e-4 * nrm, cosine_direction(nrm, hashed_uniform(s_sky, 4 * id), hashed_uniform(s_sky, 4 * id + 1))});
-      if (transmits) {
+      if (!s.sky_reused) {
+        z.front_of[i] = static_cast<int>(z.sky_rays.size());
+        z.sky_rays.push_back({p + 1e-4 * nrm, cosine_direction(nrm, hashed_uniform(s_sky, 4 * id), hashed_uniform(s_sky, 4 * id + 1))});
+      }
+      if (transmits && !s.sky_reused) {
         // The far face: a leaf's other side; a berry's antipode (what the flesh
         // passes on to this point), sampled about the opposite normal.
         Vec3 back_from = p - 1e-4 * nrm;
@@ -351,7 +359,7 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
         batch.push_back(pr(u + 0.5, v + 0.5));
         ids.push_back((static_cast<std::uint64_t>(v) * W + u) * 128);
       }
-      rays += shade(batch, ids, got, z);
+      rays += shade(batch, ids, got, z, nullptr);
       for (int u = 0; u < W; ++u) centre[static_cast<std::size_t>(v) * W + u] = compact(got[static_cast<std::size_t>(u)]);
     }
   });
@@ -360,10 +368,10 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
   for_rows(H, [&](int r0, int r1) {
     Scratch z;
     std::vector<Ray> batch;
-    std::vector<std::uint64_t> ids;
+    std::vector<std::uint64_t> ids, reuse;
     std::vector<Sample> got;
     for (int v = r0; v < r1; ++v) {
-      batch.clear(), ids.clear();
+      batch.clear(), ids.clear(), reuse.clear();
       std::vector<int> owner;
       for (int u = 0; u < W; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
@@ -379,22 +387,24 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
           const std::uint64_t id = i * 128 + 1 + static_cast<std::uint64_t>(s);
           batch.push_back(pr(u + (s % S + hashed_uniform(s_pix, 2 * id)) / S, v + (s / S + hashed_uniform(s_pix, 2 * id + 1)) / S));
           ids.push_back(id);
+          reuse.push_back(centre[i].key);
           owner.push_back(u);
         }
       }
-      if (!batch.empty()) rays += shade(batch, ids, got, z);
+      if (!batch.empty()) rays += shade(batch, ids, got, z, reuse.data());
       // Every pixel's mean over its samples (the centre, and the extra ones at edges).
       std::size_t k = 0;
       for (int u = 0; u < W; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         Pixel& c = centre[i];
         if (k >= owner.size() || owner[k] != u) continue;  // no extra samples: the centre's terms stand
-        C3 d = c.direct.cast<double>(), a = c.albedo.cast<double>(), t = c.trans.cast<double>(),
-           f = c.front.cast<double>(), b = c.back.cast<double>();
+        const C3 cf = c.front.cast<double>(), cb = c.back.cast<double>();
+        C3 d = c.direct.cast<double>(), a = c.albedo.cast<double>(), t = c.trans.cast<double>(), f = cf, b = cb;
         double m = 1, surfaces = c.key >= 2 ? 1 : 0;
         for (; k < owner.size() && owner[k] == u; ++k) {
           const Sample& g = got[k];
-          d += g.direct, a += g.albedo, t += g.trans, f += g.sky_front, b += g.sky_back;
+          d += g.direct, a += g.albedo, t += g.trans;
+          f += g.sky_reused ? cf : g.sky_front, b += g.sky_reused ? cb : g.sky_back;
           m += 1;
           surfaces += g.key >= 2;
         }
