@@ -183,8 +183,9 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
       l = cycles_render(scene, left, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 4), work.path / "left").linear;
       r = cycles_render(scene, right, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 5), work.path / "right").linear;
     } else {
-      l = ray_render(scene, left, light, p_.appearance, p_.camera, f, derive_seed(seed, 4)).linear;
-      r = ray_render(scene, right, light, p_.appearance, p_.camera, f, derive_seed(seed, 5)).linear;
+      const RayRenderScene rows = ray_render_scene(scene, p_.appearance);  // once for the pair
+      l = ray_render(rows, left, light, p_.appearance, p_.camera, f, derive_seed(seed, 4)).linear;
+      r = ray_render(rows, right, light, p_.appearance, p_.camera, f, derive_seed(seed, 5)).linear;
     }
     // A synchronised pair: the right camera takes the left's exposure.
     const DevelopResult dl = develop_image(l, left.K, p_.camera, derive_seed(seed, 2));

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sensors/camera.h"
@@ -28,8 +29,23 @@ struct RayRenderResult {
   std::uint64_t rays = 0;     // every ray cast, for the speed table
 };
 
-// The image of `cam` (its pose and intrinsics) of `scene`; `focal_length` (m) sizes
-// the lens aperture at the camera's f-number.
+// What the rays are cast into: the exact scene with the row copies
+// (sensors/render/row_copies.h) merged after its foliage, so every ray is cast once.
+// Built once and shared by the images of a pair (about 20 ms with a vine row's
+// foliage, `BM_RayRenderSceneFoliage`). Refers to `scene`, which must outlive it.
+struct RayRenderScene {
+  const RayScene* scene = nullptr;  // the exact scene: its foliage is the copies' source
+  std::optional<RayScene> merged;   // with the row copies; empty when there are none
+  const RayScene& rays() const { return merged ? *merged : *scene; }
+};
+RayRenderScene ray_render_scene(const RayScene& scene, const AppearanceParams& look);
+
+// The image of `cam` (its pose and intrinsics) of `scene` (built with the same
+// `look`); `focal_length` (m) sizes the lens aperture at the camera's f-number.
+RayRenderResult ray_render(const RayRenderScene& scene, const Camera& cam, const Illumination& light,
+                           const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
+                           std::uint64_t seed);
+// The same for one image: the render scene built for it.
 RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illumination& light,
                            const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
                            std::uint64_t seed);
