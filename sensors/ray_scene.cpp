@@ -322,7 +322,7 @@ void RayScene::refine(const Ray& ray, unsigned geom, unsigned prim, double t_flo
   h.part = s.part;
   h.berry = s.berry;
   h.primitive = static_cast<int>(prim);
-  h.colour = s.part == Part::Cane ? state_->foliage.cane_colour : state_->bunch.stem_colour;
+  h.colour = s.part == Part::Cane || s.part == Part::Background ? state_->foliage.colour_of(s) : state_->bunch.stem_colour;
 }
 
 void RayScene::set_miss(Hit& h) {

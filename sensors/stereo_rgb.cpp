@@ -119,10 +119,11 @@ RenderMesh foliage_mesh(const Foliage& f, double texture, int cells) {
       const Vec3 n0 = std::cos(a0) * e1 + std::sin(a0) * e2, n1 = std::cos(a1) * e1 + std::sin(a1) * e2;
       const Vec3 p00 = s.start + s.radius * n0, p01 = s.start + s.radius * n1;
       const Vec3 p10 = s.end + s.radius * n0, p11 = s.end + s.radius * n1;
-      vertex(p00, n0, f.cane_colour), vertex(p10, n0, f.cane_colour), vertex(p11, n1, f.cane_colour);
-      vertex(p00, n0, f.cane_colour), vertex(p11, n1, f.cane_colour), vertex(p01, n1, f.cane_colour);
-      vertex(s.start, -d, f.cane_colour), vertex(p01, -d, f.cane_colour), vertex(p00, -d, f.cane_colour);
-      vertex(s.end, d, f.cane_colour), vertex(p10, d, f.cane_colour), vertex(p11, d, f.cane_colour);
+      const Rgb& c = f.colour_of(s);
+      vertex(p00, n0, c), vertex(p10, n0, c), vertex(p11, n1, c);
+      vertex(p00, n0, c), vertex(p11, n1, c), vertex(p01, n1, c);
+      vertex(s.start, -d, c), vertex(p01, -d, c), vertex(p00, -d, c);
+      vertex(s.end, d, c), vertex(p10, d, c), vertex(p11, d, c);
     }
   }
   return r;

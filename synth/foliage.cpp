@@ -25,7 +25,15 @@ const ParamTable<FoliageParams>& foliage_param_table() {
       .real("shoot_radius", "m", &F::shoot_radius, 0.002, 0.05, "shoot radius")
       .rgb("leaf_colour", &F::leaf_colour, "mean leaf colour, linear RGB, varied per leaf")
       .real("leaf_colour_sd", "-", &F::leaf_colour_sd, 0, 1, "relative sd of the per-leaf colour")
-      .rgb("cane_colour", &F::cane_colour, "colour of cordon and shoots");
+      .rgb("cane_colour", &F::cane_colour, "colour of cordon and shoots")
+      .integer("wire_pairs", "count", &F::wire_pairs, 0, 4,
+               "foliage wire pairs above the cordon, one wire on each face of the canopy (VSP trellises carry 2-3: "
+               "Smart and Robinson 1991, Sunlight into Wine); 0 none")
+      .real("wire_spacing", "m", &F::wire_spacing, 0.05, 1,
+            "height of the first pair above the cordon and between pairs (VSP: about 0.3 m, Smart and Robinson 1991)")
+      .real("wire_radius", "m", &F::wire_radius, 0.0005, 0.005, "trellis wire radius (2.5 mm high-tensile wire)")
+      .rgb("trellis_colour", &F::trellis_colour,
+           "wires and posts, linear RGB (weathered galvanised steel, a mid grey; assumed)");
   return table;
 }
 
@@ -58,6 +66,7 @@ bool disc_touches_sphere(const Vec3& c, const Vec3& n, double r, const Vec3& cen
 Foliage generate_foliage(const FoliageParams& p, const Bunch& bunch, std::uint64_t seed) {
   Foliage f;
   f.cane_colour = p.cane_colour;
+  f.trellis_colour = p.trellis_colour;
   Rng rng(derive_seed(seed, 0xf011a6e));
   // The bunch's extent, for the canopy box and the clearance test.
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
@@ -136,6 +145,19 @@ Foliage generate_foliage(const FoliageParams& p, const Bunch& bunch, std::uint64
       f.triangle_colour.push_back(col);
     }
     ++placed;
+  }
+  // The foliage wires: straight along the row, through whatever leaves they meet (a
+  // real canopy is tucked between them).
+  for (int k = 1; k <= p.wire_pairs; ++k) {
+    for (const double side : {-0.5, 0.5}) {
+      Stem w;
+      const Vec3 at = anchor + Vec3(0, side * p.canopy_depth, k * p.wire_spacing);
+      w.start = at - Vec3(p.row_half_length, 0, 0);
+      w.end = at + Vec3(p.row_half_length, 0, 0);
+      w.radius = p.wire_radius;
+      w.part = Part::Background;
+      f.canes.push_back(w);
+    }
   }
   return f;
 }

@@ -31,6 +31,13 @@ struct FoliageParams {
   Rgb leaf_colour{0.12f, 0.38f, 0.07f};   // linear RGB, varied per leaf
   double leaf_colour_sd = 0.15;      // relative, [0, 1]
   Rgb cane_colour{0.33f, 0.22f, 0.12f};
+  // The trellis: pairs of foliage wires above the cordon on both faces of the canopy
+  // (VSP), as thin cylinders labelled Background (not vine). 0 keeps the scenes
+  // written before them unchanged.
+  int wire_pairs = 0;                // count, [0, 4]
+  double wire_spacing = 0.3;         // m, first pair above the cordon, then each pair above the last, [0.05, 1]
+  double wire_radius = 0.00125;      // m, [0.0005, 0.005]
+  Rgb trellis_colour{0.30f, 0.30f, 0.31f};  // linear RGB, wires and posts (weathered galvanised steel)
 };
 const ParamTable<FoliageParams>& foliage_param_table();  // scene section `foliage:`
 FoliageParams read_foliage(const ConfigNode& node);
@@ -40,14 +47,18 @@ struct Foliage {
   std::vector<Vec3> vertices;                    // m, world
   std::vector<std::array<int, 3>> triangles;     // leaf triangles
   std::vector<Rgb> triangle_colour;              // per triangle
-  std::vector<Stem> canes;                       // part = Cane, no parent, berry -1
+  std::vector<Stem> canes;                       // part = Cane (Background: trellis), no parent, berry -1
   Rgb cane_colour;
+  Rgb trellis_colour;
+  const Rgb& colour_of(const Stem& s) const { return s.part == Part::Background ? trellis_colour : cane_colour; }
   bool empty() const { return triangles.empty() && canes.empty(); }
 };
 
 // The cordon passes through the top of the peduncle along x (the row direction, as
 // the robot-pass rig assumes); shoots rise from it; leaves fill the canopy box around
-// the bunch without touching its berries. Deterministic in `seed`.
+// the bunch without touching its berries; the wires, after the leaves (they draw
+// nothing from the seed), run along x at y = cordon +- canopy_depth / 2. Deterministic
+// in `seed`.
 Foliage generate_foliage(const FoliageParams& p, const Bunch& bunch, std::uint64_t seed);
 
 }  // namespace grapebench

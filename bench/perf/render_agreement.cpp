@@ -1,11 +1,12 @@
 // The fast renderer (ray) against the physically based reference (Blender's Cycles) on
 // a fixed validation set: 3 varieties x 3 lights (seed 001's sunny front, sunny
 // overshadow, overcast) x 3 distances (350-1100 mm, cycled), the vine row's foliage
-// around each cluster: 27 views of seed 001's left camera. Both images go through the
-// same camera chain with the same exposure and noise. Per view: the label agreement of
-// Cycles' object-index pass with the exact labels (IoU per class), the CIEDE2000
-// difference of each class's mean colour, luminance SSIM, and the luma gradient across
-// berry boundaries; a CSV, the views as PNGs (opengl | ray | cycles) and a summary table.
+// around each cluster with its trellis (two wire pairs, a post every 5 vines): 27 views
+// of seed 001's left camera. Both images go through the same camera chain with the
+// same exposure and noise. Per view: the label agreement of Cycles' object-index pass
+// with the exact labels (IoU per class), the CIEDE2000 difference of each class's mean
+// colour, luminance SSIM, and the luma gradient across berry boundaries; a CSV, the
+// views as PNGs (opengl | ray | cycles) and a summary table.
 //   build/bench/grapebench_render_agreement --out build/agreement [--scale 1] [--samples 64] [--views 27]
 #include <CLI/CLI.hpp>
 
@@ -95,6 +96,8 @@ int main(int argc, char** argv) {
   app.add_option("--samples", samples, "Cycles samples per pixel")->check(CLI::Range(1, 4096));
   app.add_option("--views", count, "the first N views of the 27")->check(CLI::Range(1, 27));
   app.add_option("--threads", threads, "Cycles threads")->check(CLI::Range(1, 256));
+  bool trellis = true;
+  app.add_option("--trellis", trellis, "the wires and posts in the views (0: the set before them)");
   std::vector<int> only;
   app.add_option("--only", only, "these views (0-26) instead")->check(CLI::Range(0, 26));
   CLI11_PARSE(app, argc, argv);
@@ -111,7 +114,9 @@ int main(int argc, char** argv) {
     for (const std::size_t k : chosen) {
       const View& v = set[k];
       const Bunch bunch = generate_bunch(preset(v.variety), v.seed);
-      const Foliage foliage = generate_foliage(FoliageParams{}, bunch, derive_seed(v.seed, 1));
+      FoliageParams fp;
+      fp.wire_pairs = trellis ? 2 : 0;  // the trellis (issue 38, item 6): two wire pairs, posts every 5 vines
+      const Foliage foliage = generate_foliage(fp, bunch, derive_seed(v.seed, 1));
       const RayScene scene(bunch, std::nullopt, foliage);
       StereoRgbParams p;
       p.width = 800 / scale;
@@ -119,6 +124,7 @@ int main(int argc, char** argv) {
       p.pixel_pitch_um *= scale;
       p.light = v.light;
       p.renderer = StereoRgbParams::Renderer::Ray;
+      p.appearance.post_every = trellis ? 5 : 0;
       const StereoRgb rig(p);
       const Vec3 c = scene.bunch_centre();
       const Camera cam{rig.intrinsics(), look_at(c - Vec3(0, v.distance, 0), c)};

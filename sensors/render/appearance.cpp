@@ -124,7 +124,11 @@ const ParamTable<AppearanceParams>& appearance_param_table() {
           .real("ground_below", "m", &P::ground_below, 0.05, 10, "ground below the bunch's lowest point (VSP fruit zone about 1 m)")
           .real("row_spacing", "m", &P::row_spacing, 0, 10, "between vine rows; 0: no rows behind")
           .real("vine_spacing", "m", &P::vine_spacing, 0, 10, "the foliage repeated along the row at this pitch; 0: once")
-          .integer("rows_behind", "count", &P::rows_behind, 0, 4, "vine rows drawn behind the bunch's own");
+          .integer("rows_behind", "count", &P::rows_behind, 0, 4, "vine rows drawn behind the bunch's own")
+          .integer("post_every", "count", &P::post_every, 0, 20,
+                   "a trellis post every this many vines in the row copies, between two vines, ground to the canopy's "
+                   "top (line posts every 5-8 m: Smart and Robinson 1991); never beside the scene's own vine; 0 none")
+          .real("post_radius", "m", &P::post_radius, 0.01, 0.2, "post radius (steel line posts about 8 cm across)");
   return table;
 }
 

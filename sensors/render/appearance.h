@@ -35,6 +35,8 @@ struct AppearanceParams {
   double row_spacing = 2.5;        // m, between vine rows (0: no other rows), [0, 10]
   double vine_spacing = 1.2;       // m, along the row: the foliage repeated at this pitch (0: once), [0, 10]
   int rows_behind = 1;             // vine rows drawn behind the bunch's, [0, 4]
+  int post_every = 0;              // vines between trellis posts in the row copies (0: none), [0, 20]
+  double post_radius = 0.04;       // m, [0.01, 0.2]
 };
 const ParamTable<AppearanceParams>& appearance_param_table();
 

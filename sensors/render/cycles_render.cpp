@@ -134,9 +134,9 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   };
   for (const Stem& st : bunch.stems) cylinder(st, bunch.stem_colour, true);
   const Foliage& f = scene.foliage();
-  for (const Stem& st : f.canes) cylinder(st, f.cane_colour, true);
-  const RowCopies rows = row_copies(f, look);
-  for (const Stem& st : rows.foliage.canes) cylinder(st, f.cane_colour, false);
+  for (const Stem& st : f.canes) cylinder(st, f.colour_of(st), true);
+  const RowCopies rows = row_copies(f, look, scene.bunch_min().z() - look.ground_below);
+  for (const Stem& st : rows.foliage.canes) cylinder(st, f.colour_of(st), false);
   s["cylinders"] = cylinders;
 
   // The leaf atlas: one square cell per leaf of the scene, the leaf's own plane mapped

@@ -108,7 +108,7 @@ RayRenderScene ray_render_scene(const RayScene& scene, const AppearanceParams& l
   RayRenderScene out;
   out.scene = &scene;
   const Foliage& src = scene.foliage();
-  const RowCopies rows = row_copies(src, look);
+  const RowCopies rows = row_copies(src, look, scene.bunch_min().z() - look.ground_below);
   if (!rows.foliage.empty()) {
     Foliage all = src;
     const int base = static_cast<int>(all.vertices.size());

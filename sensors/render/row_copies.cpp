@@ -2,9 +2,10 @@
 
 namespace grapebench {
 
-RowCopies row_copies(const Foliage& f, const AppearanceParams& a) {
+RowCopies row_copies(const Foliage& f, const AppearanceParams& a, double ground_z) {
   RowCopies out;
   out.foliage.cane_colour = f.cane_colour;
+  out.foliage.trellis_colour = f.trellis_colour;
   out.source_triangles = f.triangles.size();
   out.source_vertices = f.vertices.size();
   if (f.empty()) return out;
@@ -38,6 +39,21 @@ RowCopies row_copies(const Foliage& f, const AppearanceParams& a) {
         s.start = place(s.start);
         s.end = place(s.end);
         o.canes.push_back(s);
+      }
+    }
+  }
+  // Posts midway between vine i and i + 1, every `post_every` vines, each row behind a vine on.
+  if (a.post_every > 0 && a.vine_spacing > 0 && ground_z < hi.z()) {
+    for (int j = 0; j <= behind; ++j) {
+      for (int i = -along - 1; i <= along; ++i) {
+        if (((i + j) % a.post_every + a.post_every) % a.post_every != 0) continue;
+        if (j == 0 && (i == -1 || i == 0)) continue;  // beside the scene's own vine
+        Stem post;
+        post.start = Vec3(cx + (i + 0.5) * a.vine_spacing, 0.5 * (lo.y() + hi.y()) + j * a.row_spacing, ground_z);
+        post.end = Vec3(post.start.x(), post.start.y(), hi.z() + 0.05);
+        post.radius = a.post_radius;
+        post.part = Part::Background;
+        o.canes.push_back(post);
       }
     }
   }

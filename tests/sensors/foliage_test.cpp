@@ -86,5 +86,48 @@ TEST(Foliage, RaysReturnLeafAndCaneLabelsWithTheirColours) {
   EXPECT_GT(berry, 300u);
 }
 
+// The trellis wires (issue 38, item 6): a pair per `wire_pairs` above the cordon on
+// both faces of the canopy, labelled Background in the exact scene (so no image shows
+// a wire where the labels say leaf), in the trellis colour; the leaves are the same
+// with and without them (the wires draw nothing from the seed).
+TEST(Foliage, WiresRunAboveTheCordonLabelledBackgroundAndLeaveTheLeavesAlone) {
+  const Bunch b = generate_bunch(preset("table-red"), 11);
+  FoliageParams p;
+  p.wire_pairs = 2;
+  const Foliage f = generate_foliage(p, b, 3);
+  const Foliage plain = generate_foliage(FoliageParams{}, b, 3);
+  ASSERT_EQ(f.canes.size(), plain.canes.size() + 4);
+  EXPECT_EQ(f.vertices, plain.vertices);
+  const Stem& cordon = f.canes[0];
+  std::vector<Stem> wires(f.canes.end() - 4, f.canes.end());
+  for (std::size_t k = 0; k < wires.size(); ++k) {
+    const Stem& w = wires[k];
+    EXPECT_EQ(w.part, Part::Background);
+    EXPECT_DOUBLE_EQ(w.radius, p.wire_radius);
+    EXPECT_NEAR(w.start.z() - cordon.start.z(), (1 + static_cast<int>(k / 2)) * p.wire_spacing, 1e-12);
+    EXPECT_NEAR(std::abs(w.start.y() - cordon.start.y()), 0.5 * p.canopy_depth, 1e-12);
+    EXPECT_NEAR((w.end - w.start).x(), 2 * p.row_half_length, 1e-12);
+  }
+  // A ray onto the lower front wire's middle returns it, labelled and coloured.
+  const RayScene scene(b, std::nullopt, f);
+  const Vec3 mid = 0.5 * (wires[0].start + wires[0].end);
+  const Hit h = scene.intersect(Ray{Vec3(mid.x(), mid.y() - 2, mid.z()), Vec3::UnitY()});
+  ASSERT_TRUE(h.valid());
+  if (h.part == Part::Background) {
+    EXPECT_NEAR(h.t, 2 - p.wire_radius, 1e-9);
+    EXPECT_EQ(h.colour.r, p.trellis_colour.r);
+  } else {
+    EXPECT_EQ(h.part, Part::Leaf);  // a leaf in front of the wire
+  }
+  // Somewhere along the wire it is seen: sweep x.
+  std::size_t seen = 0;
+  for (int i = 0; i <= 100; ++i) {
+    const Vec3 at = wires[0].start + (i / 100.0) * (wires[0].end - wires[0].start);
+    const Hit hw = scene.intersect(Ray{Vec3(at.x(), at.y() - 2, at.z()), Vec3::UnitY()});
+    seen += hw.valid() && hw.part == Part::Background;
+  }
+  EXPECT_GT(seen, 20u);
+}
+
 }  // namespace
 }  // namespace grapebench
