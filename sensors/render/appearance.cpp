@@ -127,7 +127,7 @@ const ParamTable<AppearanceParams>& appearance_param_table() {
           .integer("rows_behind", "count", &P::rows_behind, 0, 4, "vine rows drawn behind the bunch's own")
           .integer("post_every", "count", &P::post_every, 0, 20,
                    "a trellis post every this many vines in the row copies, between two vines, ground to the canopy's "
-                   "top (line posts every 5-8 m: Smart and Robinson 1991); never beside the scene's own vine; 0 none")
+                   "top (line posts every 5-8 m, common practice; assumed); never beside the scene's own vine; 0 none")
           .real("post_radius", "m", &P::post_radius, 0.01, 0.2, "post radius (steel line posts about 8 cm across)");
   return table;
 }
