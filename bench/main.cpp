@@ -2,6 +2,7 @@
 #include "bench/bench_compare.h"
 #include "bench/build_info.h"
 #include "bench/check.h"
+#include "bench/dataset_run.h"
 #include "bench/estimate_run.h"
 #include "synth/confined_program.h"
 #include "bench/runner.h"
@@ -70,6 +71,8 @@ std::string sensor_help() {
     << rig_registry().help() << "\nbackground:\n"
     << background_param_table().help(BackgroundSpec{}) << "\nfoliage: (leaves and canes around each bunch)\n"
     << foliage_param_table().help(FoliageParams{})
+    << "\ndataset: (what `grapebench dataset` writes)\n"
+    << dataset_param_table().help(DatasetParams{})
     << "\nOutputs per bunch: ground_truth.json and per view .pcd (organised, binary), .ply, _depth.png\n"
        "(16-bit mm), _rgb.png, _label.png, plus bunch_NNNN_scan.json with poses and intrinsics.\n";
   return s.str();
@@ -387,6 +390,51 @@ Command scan_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
           }};
 }
 
+Command dataset_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
+  struct Options {
+    std::string scene, out;
+    DatasetRunOptions run;
+  };
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("dataset", "Write a labelled image dataset (COCO, YOLO, depth, instances, 3D truth)");
+  cmd->add_option("scene", o->scene, "Scene file with a colour `sensor:` (stereo_rgb) and a `rig:`")->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", o->out, "The dataset's folder: new or empty, or one of the same scene with --resume")
+      ->required();
+  cmd->add_option("--threads", o->run.threads, "Worker threads (0 = all cores); the files do not depend on it")
+      ->check(CLI::Range(0, 1024))->capture_default_str();
+  cmd->add_flag("--resume", o->run.resume, "Continue the dataset in --out (the same scene): finished cases are kept");
+  std::ostringstream footer;
+  footer << "Per image (the colour sensor's left camera), in <out>/{images,depth,instances,semantic}/<split>/:\n"
+            "  colour PNG; exact depth as 16-bit PNG (mm) and float TIFF (m), 0 where nothing is hit; instance\n"
+            "  IDs (16-bit PNG: the annotation's instance_id, 0 none); semantic (8-bit PNG: part + 1, 0 none:\n"
+            "  1 berry, 2 pedicel, 3 rachis, 4 peduncle, 5 trellis or backdrop, 6 leaf, 7 cane).\n"
+            "Per dataset: annotations/<split>.json (COCO: visible and amodal RLE masks, boxes, visible\n"
+            "  fraction, intrinsics in OpenCV's convention and the camera-to-world pose per image),\n"
+            "  labels/ and labels_seg/ (YOLO boxes and polygons, classes = COCO id - 1), dataset.yaml,\n"
+            "  truth.json (every bunch's volume, sizes, cutting point and berries; annotations link to it\n"
+            "  by bunch_uid and berry), manifest.json. Categories:\n";
+  for (const auto& c : kDatasetCategories) footer << "  " << c.id << " " << c.name << ": " << c.doc << "\n";
+  footer << "Splits by bunch seed (scene section `dataset:`):\n" << dataset_param_table().help(DatasetParams{});
+  cmd->footer(footer.str());
+  return {cmd, [o, g] {
+            o->run.verbosity = g->verbosity();
+            o->run.out = o->out;
+            const SceneSet set = load_scene_set(o->scene);
+            const DatasetSummary s = write_dataset(set, o->run);
+            std::printf("%d images in %.1f s (%.2f images/s), %d cases (%d already written), %zu annotations "
+                        "(train/val/test images %d/%d/%d), peak memory %.0f MB: %s\n",
+                        s.images, s.seconds, s.images / std::max(s.seconds, 1e-9), s.cases + s.cases_resumed,
+                        s.cases_resumed, s.annotations, s.split_images[0], s.split_images[1], s.split_images[2],
+                        s.peak_rss_mb, o->out.c_str());
+            if (g->verbosity() != Verbosity::quiet)
+              std::printf("per image: capture %.3f s, labels %.3f s, masks %.3f s, files %.3f s\n",
+                          s.timing.capture / std::max(s.images, 1), s.timing.labels / std::max(s.images, 1),
+                          s.timing.masks / std::max(s.images, 1), s.timing.write / std::max(s.images, 1));
+            return 0;
+          }};
+}
+
 Command estimate_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   struct Options {
     std::string cloud, scene, json_out;
@@ -444,6 +492,7 @@ int main(int argc, char** argv) {
                                          merge_subcommand(app),    check_subcommand(app),
                                          compare_bench_subcommand(app), speed_gate_subcommand(app),
                                          scan_subcommand(app, g),
+                                         dataset_subcommand(app, g),
                                          estimate_subcommand(app, g)};
   if (argc > 1 && argv[1][0] != '-') {
     std::string known;

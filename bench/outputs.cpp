@@ -251,37 +251,6 @@ nlohmann::ordered_json timings_json(const SceneSet& set, const std::vector<Score
   return rows;
 }
 
-nlohmann::ordered_json manifest_json(const SceneSet& set, const std::vector<CaseResult>& cases, int threads) {
-  nlohmann::ordered_json j;
-  j["scene_file"] = set.base.path;
-  std::string text;
-  try {
-    text = read_scene_text(set.base.path);
-  } catch (const InputError& e) {
-    text = std::string("(unreadable at the end of the run: ") + e.what() + ")";
-  }
-  j["scene_text"] = escape_invalid_utf8(text);  // the file may have changed since it was read
-  nlohmann::ordered_json sweep = nlohmann::ordered_json::array();
-  for (const auto& a : set.base.sweep) sweep.push_back({{"key", a.key}, {"values", a.values}});
-  j["sweep"] = sweep;
-  nlohmann::ordered_json conds = nlohmann::ordered_json::array();
-  for (const auto& c : set.conditions) {
-    nlohmann::ordered_json cj = {{"condition", c.label}, {"scene", scene_json(c.scene)}};
-    nlohmann::ordered_json seeds = nlohmann::ordered_json::array();
-    for (const auto& job : bunch_jobs(c.scene)) seeds.push_back({{"bunch", job.index}, {"preset", job.preset}, {"seed", job.seed}});
-    cj["bunch_seeds"] = seeds;
-    conds.push_back(cj);
-  }
-  j["conditions"] = conds;
-  j["build"] = build_info_json();
-  // Which builds computed the cases (more than one only with --reuse-other-builds).
-  std::map<std::string, int> builds;
-  for (const auto& c : cases) ++builds[c.build];
-  j["case_builds"] = builds;
-  j["machine"] = machine_json();
-  j["threads"] = threads;
-  return j;
-}
 
 std::string leaderboard(const SceneSet& set, const std::vector<CaseResult>& cases, const std::vector<ScoreRow>& scores) {
   std::ostringstream s;
@@ -329,6 +298,38 @@ std::string leaderboard(const SceneSet& set, const std::vector<CaseResult>& case
 }
 
 }  // namespace
+
+nlohmann::ordered_json manifest_json(const SceneSet& set, const std::vector<CaseResult>& cases, int threads) {
+  nlohmann::ordered_json j;
+  j["scene_file"] = set.base.path;
+  std::string text;
+  try {
+    text = read_scene_text(set.base.path);
+  } catch (const InputError& e) {
+    text = std::string("(unreadable at the end of the run: ") + e.what() + ")";
+  }
+  j["scene_text"] = escape_invalid_utf8(text);  // the file may have changed since it was read
+  nlohmann::ordered_json sweep = nlohmann::ordered_json::array();
+  for (const auto& a : set.base.sweep) sweep.push_back({{"key", a.key}, {"values", a.values}});
+  j["sweep"] = sweep;
+  nlohmann::ordered_json conds = nlohmann::ordered_json::array();
+  for (const auto& c : set.conditions) {
+    nlohmann::ordered_json cj = {{"condition", c.label}, {"scene", scene_json(c.scene)}};
+    nlohmann::ordered_json seeds = nlohmann::ordered_json::array();
+    for (const auto& job : bunch_jobs(c.scene)) seeds.push_back({{"bunch", job.index}, {"preset", job.preset}, {"seed", job.seed}});
+    cj["bunch_seeds"] = seeds;
+    conds.push_back(cj);
+  }
+  j["conditions"] = conds;
+  j["build"] = build_info_json();
+  // Which builds computed the cases (more than one only with --reuse-other-builds).
+  std::map<std::string, int> builds;
+  for (const auto& c : cases) ++builds[c.build];
+  j["case_builds"] = builds;
+  j["machine"] = machine_json();
+  j["threads"] = threads;
+  return j;
+}
 
 std::string write_outputs(const SceneSet& set, const std::vector<CaseResult>& cases, const std::filesystem::path& out,
                           int threads) {

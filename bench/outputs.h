@@ -17,4 +17,8 @@ namespace grapebench {
 std::string write_outputs(const SceneSet& set, const std::vector<CaseResult>& cases, const std::filesystem::path& out,
                           int threads);
 
+// What manifest.json holds: the scene (its file's text and every condition read back),
+// the bunch seeds, the build, the machine, `threads`, and which builds computed `cases`.
+nlohmann::ordered_json manifest_json(const SceneSet& set, const std::vector<CaseResult>& cases, int threads);
+
 }  // namespace grapebench

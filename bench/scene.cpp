@@ -202,6 +202,24 @@ std::string registration_label(const Scene& scene) {
   return scene.protocol == "multi_view" ? scene.pipeline.registration.type : scene.protocol;
 }
 
+const ParamTable<DatasetParams>& dataset_param_table() {
+  using P = DatasetParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .real("train", "-", &P::train, 0, 1,
+                "fraction of the bunch seeds whose views go to the training split (hashed from the seed, so "
+                "a bunch's views and its sweep conditions share one split)")
+          .real("val", "-", &P::val, 0, 1, "fraction in the validation split; the rest is the test split")
+          .integer("min_pixels", "px", &P::min_pixels, 1, 1000000,
+                   "visible pixels an instance needs to be annotated (Helios drops objects under 10 px; 1 keeps "
+                   "every visible one)")
+          .validate([](const P& p, const ConfigNode& node) {
+            if (p.train + p.val > 1 + 1e-12)
+              node.fail("val", "train + val is " + std::to_string(p.train + p.val) + ", at most 1");
+          });
+  return table;
+}
+
 RayScene scene_rays(const Scene& scene, const Bunch& bunch, std::uint64_t bunch_seed) {
   if (!scene.foliage) return RayScene(bunch);
   return RayScene(bunch, std::nullopt, generate_foliage(*scene.foliage, bunch, derive_seed(bunch_seed, 0x1eaf)));
@@ -224,6 +242,7 @@ nlohmann::ordered_json scene_json(const Scene& s) {
   j["background"] = background_param_table().to_json(s.background);
   if (s.foliage) j["foliage"] = foliage_param_table().to_json(*s.foliage);
   if (s.vine_row) j["vine_row"] = vine_row_param_table().to_json(*s.vine_row);
+  j["dataset"] = dataset_param_table().to_json(s.dataset);
   j["pipeline"] = s.pipeline.describe();
   j["protocol"] = s.protocol;
   if (!s.estimators.empty()) {

@@ -129,6 +129,15 @@ struct SweepAxis {
   std::vector<std::string> names;  // empty for a numeric axis
 };
 
+// The labelled image datasets of `grapebench dataset` (bench/dataset_run.h): which
+// bunches go to which split, and which instances are annotated.
+struct DatasetParams {
+  double train = 0.7;   // fraction of the cases' bunch seeds in the training split, [0, 1]
+  double val = 0.15;    // in the validation split (the rest: test), [0, 1]
+  int min_pixels = 1;   // visible pixels an instance needs to be annotated, [1, 1000000]
+};
+const ParamTable<DatasetParams>& dataset_param_table();  // scene section `dataset:`
+
 struct Scene {
   std::string path;
   std::string name;
@@ -146,6 +155,8 @@ struct Scene {
   std::optional<FoliageParams> foliage;
   // The vine-row section of protocol classification (section `vine_row:`, seed 004).
   std::optional<VineRowParams> vine_row;
+  // What `grapebench dataset` writes (section `dataset:`; its defaults without one).
+  DatasetParams dataset;
   PipelineSpec pipeline;
   std::vector<EstimatorSpec> estimators;
   std::vector<SweepAxis> sweep;  // as written; each Condition below is one point

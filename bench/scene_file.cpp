@@ -1,5 +1,7 @@
 #include "bench/scene_file.h"
 
+#include "sensors/stereo_rgb.h"
+
 #include <algorithm>
 #include <cctype>
 
@@ -51,10 +53,14 @@ void check_protocol_inputs(const ConfigNode& root, const Scene& s) {
                                   s.protocol + " gives a " + wanted);
     }
   }
-  if ((s.protocol == "classification") != s.vine_row.has_value()) {
-    root.fail(s.vine_row ? "vine_row" : "protocol",
-              "protocol classification and a `vine_row:` section go together (seed 004's scene)");
-  }
+  // A vine row is seed 004's scene, or a dataset's (`grapebench dataset` reads it whatever the protocol).
+  if (s.protocol == "classification" && !s.vine_row)
+    root.fail("protocol", "protocol classification needs a `vine_row:` section (seed 004's scene)");
+  if (s.vine_row && s.protocol != "classification" && !root.has("dataset"))
+    root.fail("vine_row", "a `vine_row:` section goes with protocol classification (seed 004's scene) or a `dataset:` section");
+  if (s.protocol == "stereo_pair" && !s.estimators.empty() && s.sensor && s.sensor->type() == "stereo_rgb" &&
+      !static_cast<const StereoRgb&>(*s.sensor).params().right_image)
+    root.fail("sensor", "right_image: false leaves protocol stereo_pair's estimators without their pair");
   if (s.protocol == "stereo_pair" && s.sensor && s.sensor->type() != "stereo_rgb") {
     root.fail("protocol", "stereo_pair needs a colour stereo sensor (type stereo_rgb), not " + s.sensor->type());
   }
@@ -102,6 +108,7 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
     s.vine_row.emplace();
     vine_row_param_table().read(root.child("vine_row"), *s.vine_row);
   }
+  if (root.has("dataset")) dataset_param_table().read(root.child("dataset"), s.dataset);
   if (s.rig && !s.sensor) root.fail("rig", "a rig needs a `sensor:` section");
   s.pipeline = root.has("pipeline") ? read_pipeline(root.child("pipeline"), s.protocol) : pipeline_defaults(s.protocol);
   if (root.has("estimators")) s.estimators = read_estimators(root);

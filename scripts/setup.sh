@@ -23,6 +23,7 @@ packages=(
   chromium        # the report's browser test (headless)
   libjs-three     # the report's 3D view of a scan against its ground-truth mesh (inlined)
   python3-pandas  # the README's example of reading results.csv (tested)
+  python3-opencv  # the dataset viewer and the external detector baseline (scripts/coco_view.py, tests)
   bubblewrap      # external programs run in a sandbox (synth/confined_program.h)
   clang libfuzzer-14-dev  # scripts/fuzz.sh and the fuzz targets' short runs in the test suite
   slurm-wlm munge  # tests/bench/slurm: a one-node Slurm cluster runs scripts/slurm_sweep.sh (daemons only in the test)

@@ -17,50 +17,6 @@ void on_embree_error(void* user, RTCError code, const char* message) {
   *last = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
 }
 
-// Entry distance of a ray into a finite flat-capped cylinder, with the outward normal
-// there; returns false when the ray misses it beyond tnear.
-bool ray_cylinder(const Stem& s, const Vec3& o, const Vec3& d, double tnear, double& t, Vec3& normal) {
-  const Vec3 axis = s.end - s.start;
-  const double len = axis.norm();
-  const Vec3 w = axis / len;
-  const Vec3 rel = o - s.start;
-  const double s0 = rel.dot(w), dw = d.dot(w);
-  double t0 = -kInf, t1 = kInf;
-  Vec3 n0 = Vec3::Zero();
-  if (std::abs(dw) > 1e-15) {
-    double ta = -s0 / dw, tb = (len - s0) / dw;
-    Vec3 na = -w, nb = w;
-    if (ta > tb) {
-      std::swap(ta, tb);
-      std::swap(na, nb);
-    }
-    t0 = ta;
-    t1 = tb;
-    n0 = na;
-  } else if (s0 < 0 || s0 > len) {
-    return false;
-  }
-  const Vec3 q = rel - s0 * w, dp = d - dw * w;
-  const double A = dp.squaredNorm(), B = q.dot(dp), C = q.squaredNorm() - s.radius * s.radius;
-  if (A > 1e-30) {
-    const double disc = B * B - A * C;
-    if (disc < 0) return false;
-    const double sq = std::sqrt(disc);
-    const double ca = (-B - sq) / A, cb = (-B + sq) / A;
-    if (ca > t0) {
-      t0 = ca;
-      const Vec3 p = q + ca * dp;
-      n0 = p / std::max(p.norm(), 1e-300);
-    }
-    t1 = std::min(t1, cb);
-  } else if (C > 0) {
-    return false;
-  }
-  if (t0 > t1 || t0 <= tnear) return false;
-  t = t0;
-  normal = n0;
-  return true;
-}
 
 
 void stem_bounds(const RTCBoundsFunctionArguments* args) {
@@ -152,6 +108,49 @@ void load_packet(const Ray* rays, std::size_t n, RTCRayHit16& rh, int* valid) {
 }
 
 }  // namespace
+
+bool ray_cylinder(const Stem& s, const Vec3& o, const Vec3& d, double tnear, double& t, Vec3& normal) {
+  const Vec3 axis = s.end - s.start;
+  const double len = axis.norm();
+  const Vec3 w = axis / len;
+  const Vec3 rel = o - s.start;
+  const double s0 = rel.dot(w), dw = d.dot(w);
+  double t0 = -kInf, t1 = kInf;
+  Vec3 n0 = Vec3::Zero();
+  if (std::abs(dw) > 1e-15) {
+    double ta = -s0 / dw, tb = (len - s0) / dw;
+    Vec3 na = -w, nb = w;
+    if (ta > tb) {
+      std::swap(ta, tb);
+      std::swap(na, nb);
+    }
+    t0 = ta;
+    t1 = tb;
+    n0 = na;
+  } else if (s0 < 0 || s0 > len) {
+    return false;
+  }
+  const Vec3 q = rel - s0 * w, dp = d - dw * w;
+  const double A = dp.squaredNorm(), B = q.dot(dp), C = q.squaredNorm() - s.radius * s.radius;
+  if (A > 1e-30) {
+    const double disc = B * B - A * C;
+    if (disc < 0) return false;
+    const double sq = std::sqrt(disc);
+    const double ca = (-B - sq) / A, cb = (-B + sq) / A;
+    if (ca > t0) {
+      t0 = ca;
+      const Vec3 p = q + ca * dp;
+      n0 = p / std::max(p.norm(), 1e-300);
+    }
+    t1 = std::min(t1, cb);
+  } else if (C > 0) {
+    return false;
+  }
+  if (t0 > t1 || t0 <= tnear) return false;
+  t = t0;
+  normal = n0;
+  return true;
+}
 
 RayScene::State::~State() {
   if (scene) rtcReleaseScene(scene);

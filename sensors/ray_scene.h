@@ -54,6 +54,11 @@ struct PixelRays {
   }
 };
 
+// Entry distance t (m along the unit direction d) of the ray from o into the exact
+// flat-capped cylinder of `s`, with the outward normal there; false when it misses it
+// beyond tnear. The test every stem hit is refined by (and the datasets' amodal masks).
+bool ray_cylinder(const Stem& s, const Vec3& o, const Vec3& d, double tnear, double& t, Vec3& normal);
+
 class RayScene {
  public:
   // `foliage` (leaves as triangles, canes as exact cylinders) only occludes and

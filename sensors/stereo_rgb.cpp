@@ -182,18 +182,17 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
     if (p_.renderer == StereoRgbParams::Renderer::Cycles) {
       const TempFolder work("grapebench-cycles");
       l = cycles_render(scene, left, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 4), work.path / "left").linear;
-      r = cycles_render(scene, right, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 5), work.path / "right").linear;
+      if (p_.right_image) r = cycles_render(scene, right, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 5), work.path / "right").linear;
     } else {
       const RayRenderScene rows = ray_render_scene(scene, p_.appearance);  // once for the pair
       l = ray_render(rows, left, light, p_.appearance, p_.camera, f, derive_seed(seed, 4)).linear;
-      r = ray_render(rows, right, light, p_.appearance, p_.camera, f, derive_seed(seed, 5)).linear;
+      if (p_.right_image) r = ray_render(rows, right, light, p_.appearance, p_.camera, f, derive_seed(seed, 5)).linear;
     }
     // A synchronised pair: the right camera takes the left's exposure.
     const DevelopResult dl = develop_image(l, left.K, p_.camera, derive_seed(seed, 2));
-    const DevelopResult dr = develop_image(r, right.K, p_.camera, derive_seed(seed, 3), dl.gain);
     out.baseline = p_.baseline;
     out.left_image = dl.rgb;
-    out.right_image = dr.rgb;
+    if (p_.right_image) out.right_image = develop_image(r, right.K, p_.camera, derive_seed(seed, 3), dl.gain).rgb;
     for (std::size_t i = 0; i < out.size(); ++i) {
       if (out.valid[i]) out.rgb[i] = {out.left_image[3 * i], out.left_image[3 * i + 1], out.left_image[3 * i + 2]};
     }
@@ -371,8 +370,10 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
   };
   out.baseline = p_.baseline;
   render(left, out, out.left_image, derive_seed(seed, 2));
-  const OrganisedCloud right_exact = lamp ? OrganisedCloud{} : capture_exact(scene, right);
-  render(right, right_exact, out.right_image, derive_seed(seed, 3));
+  if (p_.right_image) {
+    const OrganisedCloud right_exact = lamp ? OrganisedCloud{} : capture_exact(scene, right);
+    render(right, right_exact, out.right_image, derive_seed(seed, 3));
+  }
   // The cloud's colours are the left image's.
   for (std::size_t i = 0; i < out.size(); ++i) {
     if (out.valid[i]) out.rgb[i] = {out.left_image[3 * i], out.left_image[3 * i + 1], out.left_image[3 * i + 2]};
@@ -427,6 +428,9 @@ const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
           .real("pixel_pitch_um", "um", &P::pixel_pitch_um, 1, 50,
                 "pixel pitch (not stated in seed 001; 6 um: f = 1000 px)")
           .real("baseline", "m", &P::baseline, 0.01, 1, "left to right camera (seed 001: 5 cm)")
+          .boolean("right_image", &P::right_image,
+                   "render the right camera's image too (false: the left only, as `grapebench dataset` needs, "
+                   "in half the time; protocol stereo_pair's estimators need the pair)")
           .choice("background", &P::background, {{"foliage", P::Background::Foliage}, {"plain", P::Background::Plain}},
                   "what the images show behind the bunch")
           .rgb("plain_colour", &P::plain_colour, "the plain background's colour")

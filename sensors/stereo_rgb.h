@@ -20,6 +20,7 @@ struct StereoRgbParams {
   double focal_length_mm = 6.0;   // seed 001: 6 mm lens, [1, 100]
   double pixel_pitch_um = 6.0;    // assumed (not stated in seed 001): 1000 px focal length, [1, 50]
   double baseline = 0.05;         // m, seed 001: 5 cm, [0.01, 1]
+  bool right_image = true;        // false: the left image only (datasets)
   enum class Background { Foliage, Plain };
   Background background = Background::Foliage;  // foliage texture or a plain colour
   Rgb plain_colour{0.55f, 0.6f, 0.65f};
@@ -75,6 +76,8 @@ class StereoRgb : public Sensor {
   Intrinsics intrinsics() const override;
   OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override;
   nlohmann::ordered_json describe() const override;
+  // Its parameters: what the dataset writer needs to label the scene its images show.
+  const StereoRgbParams& params() const { return p_; }
 
  private:
   StereoRgbParams p_;

@@ -422,6 +422,7 @@ TEST(Cli, EverySubcommandAnswersHostileInputWithExitTwoNotACrashOrHang) {
   for (const auto& f : cloud) commands.push_back("estimate " + f + " -e convex_hull");
   for (const std::string& f : {yaml[0], yaml[1], (dir / "bomb.yaml").string()})
     for (const std::string& c : {"synth " + f + " --out " + out.string(), "scan " + f + " --out " + out.string(),
+                                 "dataset " + f + " --out " + (dir / "dataset").string(),
                                  "merge " + f + " --from " + out.string() + " --out " + (dir / "merged").string()})
       commands.push_back(c);
   for (const std::string& f : {json[0], json[1]})
