@@ -3,6 +3,7 @@
 #include "bench/build_info.h"
 #include "bench/check.h"
 #include "bench/dataset_run.h"
+#include "bench/scoring/coco_eval.h"
 #include "bench/estimate_run.h"
 #include "synth/confined_program.h"
 #include "bench/runner.h"
@@ -435,6 +436,62 @@ Command dataset_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
           }};
 }
 
+Command coco_eval_subcommand(CLI::App& app) {
+  struct Options {
+    std::string gt, results, iou = "bbox", json_out;
+    std::vector<int> max_dets{1, 10, 100};
+  };
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("coco-eval", "Score detections (COCO results JSON) against a dataset's COCO annotations");
+  cmd->add_option("annotations", o->gt, "COCO ground truth, e.g. <dataset>/annotations/test.json")->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("results", o->results, "COCO results: [{image_id, category_id, score, bbox or segmentation}]")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("--iou", o->iou, "What is compared: bbox (boxes) or segm (RLE masks)")
+      ->check(CLI::IsMember({"bbox", "segm"}))->capture_default_str();
+  cmd->add_option("--max-dets", o->max_dets, "COCO's three max-detections limits (berries: raise the last)")
+      ->expected(3)->check(CLI::Range(1, 1000000))->capture_default_str();
+  cmd->add_option("--json", o->json_out, "Also write the numbers as JSON to this file");
+  cmd->footer("COCO's rules (pycocotools' COCOeval, re-implemented: bench/scoring/coco_eval.h): AP over IoU\n"
+              "0.50:0.05:0.95 with 101-point interpolation, AP50, AP75, per area range (small < 32^2 px <= medium\n"
+              "< 96^2 px <= large), AR at the three limits; crowd regions absorb detections. -1: undefined.");
+  return {cmd, [o] {
+            auto load = [](const std::string& path) {
+              try {
+                return nlohmann::json::parse(read_regular_file(path, std::size_t{1} << 32));
+              } catch (const nlohmann::json::exception& e) {
+                throw InputError(path + ": not JSON: " + e.what());
+              }
+            };
+            const CocoIouType type = o->iou == "segm" ? CocoIouType::Segm : CocoIouType::Bbox;
+            const CocoGroundTruth gt = read_coco_ground_truth(load(o->gt), o->gt);
+            const std::vector<CocoObject> dets = read_coco_results(load(o->results), o->results, gt, type);
+            const CocoEvalResult r = coco_evaluate(gt, dets, CocoEvalParams{type, o->max_dets});
+            nlohmann::ordered_json j;
+            j["iou"] = o->iou;
+            j["max_dets"] = o->max_dets;
+            auto stats_json = [](const std::array<double, 12>& s) {
+              nlohmann::ordered_json x;
+              for (std::size_t i = 0; i < s.size(); ++i) x[kCocoStatNames[i]] = s[i];
+              return x;
+            };
+            j["all"] = stats_json(r.stats);
+            std::printf("%-12s", "category");
+            for (const char* n : kCocoStatNames) std::printf(" %9s", n);
+            std::printf("\n%-12s", "all");
+            for (const double x : r.stats) std::printf(" %9.3f", x);
+            std::printf("\n");
+            for (const auto& [cat, s] : r.per_category) {
+              j["categories"][cat.name.empty() ? std::to_string(cat.id) : cat.name] = stats_json(s);
+              std::printf("%-12s", cat.name.substr(0, 12).c_str());
+              for (const double x : s) std::printf(" %9.3f", x);
+              std::printf("\n");
+            }
+            if (!o->json_out.empty()) write_file_atomic(o->json_out, j.dump(1) + "\n");
+            return 0;
+          }};
+}
+
 Command estimate_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   struct Options {
     std::string cloud, scene, json_out;
@@ -492,7 +549,7 @@ int main(int argc, char** argv) {
                                          merge_subcommand(app),    check_subcommand(app),
                                          compare_bench_subcommand(app), speed_gate_subcommand(app),
                                          scan_subcommand(app, g),
-                                         dataset_subcommand(app, g),
+                                         dataset_subcommand(app, g),    coco_eval_subcommand(app),
                                          estimate_subcommand(app, g)};
   if (argc > 1 && argv[1][0] != '-') {
     std::string known;

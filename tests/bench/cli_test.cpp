@@ -411,7 +411,8 @@ TEST(Cli, EverySubcommandAnswersHostileInputWithExitTwoNotACrashOrHang) {
                              put("latin1.ply", ply + "0 0 0.1 caf\xE9\n")});
   const std::string good_bench = GRAPEBENCH_SOURCE_DIR "/tests/fuzz/corpus/bench_json/bench.json",
                     good_base = GRAPEBENCH_SOURCE_DIR "/results/baseline/default.json",
-                    gate = GRAPEBENCH_SOURCE_DIR "/results/baseline/speed_gate.json";
+                    gate = GRAPEBENCH_SOURCE_DIR "/results/baseline/speed_gate.json",
+                    coco = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/coco_tiny.json";
   // Each file through one subcommand of its reader (`run`: the scene reader `synth`,
   // `scan` and `merge` share; `check`: the JSON reader of every JSON input), and
   // every subcommand and input position meets the special files and the alias bomb
@@ -428,7 +429,8 @@ TEST(Cli, EverySubcommandAnswersHostileInputWithExitTwoNotACrashOrHang) {
   for (const std::string& f : {json[0], json[1]})
     for (const std::string& c : {"check " + good_base + " --baseline " + f, "compare-bench " + f + " " + good_bench,
                                  "compare-bench " + good_bench + " " + f, "speed-gate " + f + " " + good_bench,
-                                 "speed-gate " + gate + " " + f})
+                                 "speed-gate " + gate + " " + f, "coco-eval " + f + " " + coco,
+                                 "coco-eval " + coco + " " + f})
       commands.push_back(c);
   for (const std::string& f : {json[2], (dir / "twice.json").string(), (dir / "latin1.json").string(),
                                (dir / "notime.json").string()})

@@ -1,0 +1,159 @@
+#include "bench/scoring/coco_eval.h"
+
+#include <gtest/gtest.h>
+
+#include "synth/config.h"
+
+namespace grapebench {
+namespace {
+
+// One category, images of 200 x 200; boxes as {x, y, w, h}.
+struct Case {
+  CocoGroundTruth gt;
+  std::vector<CocoObject> dets;
+  explicit Case(int images = 1) {
+    for (int i = 1; i <= images; ++i) gt.images.push_back({i, 200, 200});
+    gt.categories.push_back({1, "berry"});
+  }
+  void truth(std::array<double, 4> b, bool crowd = false, std::int64_t image = 1) {
+    CocoObject g;
+    g.id = static_cast<std::int64_t>(gt.annotations.size()) + 1;
+    g.image_id = image, g.category_id = 1, g.bbox = b, g.area = b[2] * b[3], g.iscrowd = crowd;
+    gt.annotations.push_back(g);
+  }
+  void det(std::array<double, 4> b, double score, std::int64_t image = 1) {
+    CocoObject d;
+    d.id = static_cast<std::int64_t>(dets.size()) + 1;
+    d.image_id = image, d.category_id = 1, d.bbox = b, d.area = b[2] * b[3], d.score = score;
+    dets.push_back(d);
+  }
+  std::array<double, 12> stats() const { return coco_evaluate(gt, dets, {}).stats; }
+};
+
+enum { AP, AP50, AP75, APs, APm, APl, AR1, AR10, AR100 };
+
+TEST(CocoEval, PerfectDetectionsScoreOne) {
+  Case c;
+  c.truth({10, 10, 20, 20}), c.truth({50, 50, 40, 40});
+  c.det({10, 10, 20, 20}, 0.9), c.det({50, 50, 40, 40}, 0.8);
+  const auto s = c.stats();
+  EXPECT_DOUBLE_EQ(s[AP], 1); EXPECT_DOUBLE_EQ(s[AP50], 1); EXPECT_DOUBLE_EQ(s[AR100], 1);
+  EXPECT_DOUBLE_EQ(s[APs], 1); EXPECT_DOUBLE_EQ(s[APm], 1);
+  EXPECT_DOUBLE_EQ(s[APl], -1);  // no large ground truth: undefined
+}
+
+TEST(CocoEval, AShiftedBoxCountsOnlyAtThresholdsBelowItsIou) {
+  // 10 x 10 shifted by 2 px: IoU 80 / 120 = 0.667, a match at 0.50..0.65 (4 of 10).
+  Case c;
+  c.truth({0, 0, 10, 10});
+  c.det({2, 0, 10, 10}, 1);
+  const auto s = c.stats();
+  EXPECT_DOUBLE_EQ(s[AP], 0.4); EXPECT_DOUBLE_EQ(s[AP50], 1); EXPECT_DOUBLE_EQ(s[AP75], 0);
+  EXPECT_DOUBLE_EQ(s[AR100], 0.4);
+}
+
+TEST(CocoEval, ADuplicateRankedFirstCostsPrecisionWhereItFailsToMatch) {
+  // The shifted box (IoU 0.667) scored above the exact one: at 0.50..0.65 it takes the
+  // object and the exact one is a false positive after full recall (precision 1); at
+  // 0.70..0.95 it is a false positive before the exact one (precision 1/2 throughout).
+  Case c;
+  c.truth({0, 0, 10, 10});
+  c.det({2, 0, 10, 10}, 0.9), c.det({0, 0, 10, 10}, 0.8);
+  EXPECT_DOUBLE_EQ(c.stats()[AP], (4 * 1.0 + 6 * 0.5) / 10);
+}
+
+TEST(CocoEval, AMissedObjectHalvesRecallAndApReadsPrecisionAt51Of101Points) {
+  Case c;
+  c.truth({0, 0, 10, 10}), c.truth({50, 50, 10, 10});
+  c.det({0, 0, 10, 10}, 1);
+  const auto s = c.stats();
+  EXPECT_DOUBLE_EQ(s[AR100], 0.5);
+  EXPECT_NEAR(s[AP], 51.0 / 101, 1e-15);
+}
+
+TEST(CocoEval, AreaRangesScoreEachSizeAlone) {
+  // 10 x 10 (small) found, 100 x 100 (large) missed.
+  Case c;
+  c.truth({0, 0, 10, 10}), c.truth({90, 90, 100, 100});
+  c.det({0, 0, 10, 10}, 1);
+  const auto s = c.stats();
+  EXPECT_DOUBLE_EQ(s[APs], 1); EXPECT_DOUBLE_EQ(s[APl], 0); EXPECT_DOUBLE_EQ(s[APm], -1);
+  // A large false positive is ignored in the small range (unmatched, outside it).
+  c.det({100, 0, 100, 100}, 2);
+  EXPECT_DOUBLE_EQ(c.stats()[APs], 1);
+  EXPECT_NEAR(c.stats()[AP], 51.0 / 101 * 0.5, 1e-15);  // rank 2 at recall 0.5: precision 1/2
+}
+
+TEST(CocoEval, ACrowdRegionAbsorbsDetectionsInsteadOfCountingThemFalse) {
+  Case c;
+  c.truth({0, 0, 10, 10});
+  c.truth({100, 100, 60, 60}, true);
+  c.det({0, 0, 10, 10}, 0.5);
+  c.det({100, 100, 20, 20}, 0.9), c.det({130, 130, 20, 20}, 0.8);  // inside the crowd: IoU over their own area, 1
+  EXPECT_DOUBLE_EQ(c.stats()[AP], 1);
+  Case plain;  // the same without the crowd flag: the crowd is one object, the second box a false positive
+  plain.truth({0, 0, 10, 10});
+  plain.truth({100, 100, 60, 60});
+  plain.det({0, 0, 10, 10}, 0.5);
+  plain.det({100, 100, 20, 20}, 0.9), plain.det({130, 130, 20, 20}, 0.8);
+  EXPECT_LT(plain.stats()[AP], 0.5);
+}
+
+TEST(CocoEval, TheMaxDetectionsLimitCutsEachImagesLowestScores) {
+  Case c;
+  for (int k = 0; k < 3; ++k) c.truth({20.0 * k, 0, 10, 10}), c.det({20.0 * k, 0, 10, 10}, 1 - 0.1 * k);
+  const auto s = c.stats();
+  EXPECT_DOUBLE_EQ(s[AR1], 1.0 / 3); EXPECT_DOUBLE_EQ(s[AR10], 1); EXPECT_DOUBLE_EQ(s[AR100], 1);
+  EXPECT_NEAR(coco_evaluate(c.gt, c.dets, {CocoIouType::Bbox, {1, 2, 2}}).stats[AR100], 2.0 / 3, 1e-15);
+}
+
+TEST(CocoEval, MasksAreComparedByTheirPixels) {
+  Case c;
+  std::vector<std::uint8_t> m(200 * 200, 0), half(200 * 200, 0);
+  for (int v = 10; v < 30; ++v)
+    for (int u = 10; u < 30; ++u) m[static_cast<std::size_t>(v * 200 + u)] = 1, half[static_cast<std::size_t>(v * 200 + u)] = u < 20;
+  c.truth({10, 10, 20, 20});
+  c.gt.annotations[0].mask = rle_encode(m.data(), 200, 200);
+  c.det({10, 10, 20, 20}, 1);  // the right box, half the mask: IoU 0.5 in pixels
+  c.dets[0].mask = rle_encode(half.data(), 200, 200);
+  EXPECT_DOUBLE_EQ(coco_evaluate(c.gt, c.dets, {CocoIouType::Bbox, {1, 10, 100}}).stats[AP], 1);
+  const auto s = coco_evaluate(c.gt, c.dets, {CocoIouType::Segm, {1, 10, 100}}).stats;
+  EXPECT_DOUBLE_EQ(s[AP50], 1); EXPECT_DOUBLE_EQ(s[AP], 0.1);
+}
+
+// Bad results name the file, the record and what is allowed.
+TEST(CocoEval, BadResultsAreRefusedNamingTheRecord) {
+  Case c;
+  c.truth({0, 0, 10, 10});
+  auto refused = [&](const std::string& json, const std::string& want) {
+    try {
+      read_coco_results(nlohmann::json::parse(json), "r.json", c.gt, CocoIouType::Bbox);
+      ADD_FAILURE() << json;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("r.json"), std::string::npos) << e.what();
+    }
+  };
+  refused(R"([{"image_id": 9, "category_id": 1, "score": 1, "bbox": [0, 0, 1, 1]}])", "record 0: image_id 9");
+  refused(R"([{"image_id": 1, "category_id": 1, "score": 1, "bbox": [0, 0, 1, 1]},
+             {"image_id": 1, "category_id": 7, "score": 1, "bbox": [0, 0, 1, 1]}])", "record 1: category_id 7");
+  refused(R"([{"image_id": 1, "category_id": 1, "score": 1, "bbox": [0, 0, -1, 1]}])", "negative width");
+  refused(R"([{"image_id": 1, "category_id": 1, "score": 1, "bbox": [0, 0, 1]}])", "[x, y, w, h]");
+  refused(R"([{"image_id": 1, "category_id": 1, "score": "high", "bbox": [0, 0, 1, 1]}])", "`score` must be a number");
+  refused(R"([{"id": 3, "image_id": 1, "category_id": 1, "score": 1, "bbox": [0, 0, 1, 1]},
+             {"id": 3, "image_id": 1, "category_id": 1, "score": 1, "bbox": [0, 0, 1, 1]}])", "duplicate id 3");
+  refused(R"({"image_id": 1})", "a list of");
+  // (NaN cannot be written in JSON and the parser refuses 1e999: `coco-eval` says "not JSON", exit 2.)
+  try {
+    read_coco_results(nlohmann::json::parse(R"([{"image_id": 1, "category_id": 1, "score": 1,
+                                                 "segmentation": {"size": [100, 200], "counts": "0"}}])"),
+                      "r.json", c.gt, CocoIouType::Segm);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mask of 100 x 200 (h x w) on image 1 of 200 x 200"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace grapebench
