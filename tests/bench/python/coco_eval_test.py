@@ -6,6 +6,7 @@ and per category agree to 1e-12. Then a dataset's own annotations as detections 
 
 usage: coco_eval_test.py <grapebench> <scratch folder> [<dataset folder>]
 """
+import importlib.util
 import json
 import random
 import shutil
@@ -14,6 +15,11 @@ import sys
 from pathlib import Path
 
 import numpy as np
+
+# The dataset viewer's RLE reader (its own test: tests/bench/python/dataset_test.py).
+_spec = importlib.util.spec_from_file_location("coco_view", Path(__file__).resolve().parents[3] / "scripts" / "coco_view.py")
+coco_view = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(coco_view)
 
 AREAS = [(0, 1e10), (0, 32 ** 2), (32 ** 2, 96 ** 2), (96 ** 2, 1e10)]
 
@@ -76,24 +82,7 @@ def evaluate(gt, dets, kind, max_dets=(1, 10, 100)):
     recall = -np.ones((T, K, A, M))
 
     def mask_of(o):
-        h, w = size[o["image_id"]]
-        from_counts = o["segmentation"]["counts"]
-        runs, p = [], 0
-        while p < len(from_counts):
-            x, k, more = 0, 0, True
-            while more:
-                c = ord(from_counts[p]) - 48
-                x |= (c & 0x1F) << (5 * k)
-                more = bool(c & 0x20)
-                p += 1
-                k += 1
-                if not more and c & 0x10:
-                    x |= -1 << (5 * k)
-            if len(runs) > 2:
-                x += runs[-2]
-            runs.append(x)
-        flat = np.repeat(np.arange(len(runs)) % 2 == 1, runs)
-        return flat.reshape(w, h).T
+        return coco_view.rle_decode(o["segmentation"])
 
     for k, cat in enumerate(cats):
         per_image = []
