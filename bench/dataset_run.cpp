@@ -390,7 +390,7 @@ Json write_view(const Scene& scene, const LabelScene& ls, const CaseScene& cs, c
   };
   write_file_atomic(out / file("images", ".png"), png_rgb(W, H, cloud.left_image));
   write_file_atomic(out / file("depth", ".png"), png16(W, H, depth_mm));
-  write_file_atomic(out / file("depth", ".tiff"), tiff32(W, H, depth));
+  if (scene.dataset.float_depth) write_file_atomic(out / file("depth", ".tiff"), tiff32(W, H, depth));
   write_file_atomic(out / file("instances", ".png"), png16(W, H, inst));
   write_file_atomic(out / file("semantic", ".png"), png8(W, H, sem));
   timing.write += seconds_since(t_images);
@@ -402,7 +402,7 @@ Json write_view(const Scene& scene, const LabelScene& ls, const CaseScene& cs, c
   image["file_name"] = file("images", ".png").generic_string();
   image["width"] = W, image["height"] = H;
   image["depth_file"] = file("depth", ".png").generic_string();
-  image["depth_float_file"] = file("depth", ".tiff").generic_string();
+  if (scene.dataset.float_depth) image["depth_float_file"] = file("depth", ".tiff").generic_string();
   image["instance_file"] = file("instances", ".png").generic_string();
   image["semantic_file"] = file("semantic", ".png").generic_string();
   image["intrinsics"] = {{"fx", cam.K.fx}, {"fy", cam.K.fy}, {"cx", cam.K.opencv_cx()}, {"cy", cam.K.opencv_cy()}};

@@ -135,6 +135,7 @@ struct DatasetParams {
   double train = 0.7;   // fraction of the cases' bunch seeds in the training split, [0, 1]
   double val = 0.15;    // in the validation split (the rest: test), [0, 1]
   int min_pixels = 1;   // visible pixels an instance needs to be annotated, [1, 1000000]
+  bool float_depth = true;  // also the float TIFF depth (m): 4 bytes a pixel, uncompressed
 };
 const ParamTable<DatasetParams>& dataset_param_table();  // scene section `dataset:`
 

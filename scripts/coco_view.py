@@ -84,11 +84,13 @@ def draw(dataset, image, anns, names, amodal):
                 for i, p in enumerate(c[:, 0, :]):
                     if (i // 3) % 2 == 0:
                         out[p[1], p[0]] = colour
-    y = 14
+    scale = max(0.45, out.shape[1] / 700 * 0.45)  # the legend readable at any size
+    thick = max(1, int(round(scale * 1.5)))
+    y = int(30 * scale)
     for cid, name in names.items():
-        cv2.putText(out, name, (6, y), cv2.FONT_HERSHEY_SIMPLEX, 0.45, COLOURS.get(name, (255, 255, 255)), 1,
+        cv2.putText(out, name, (6, y), cv2.FONT_HERSHEY_SIMPLEX, scale, COLOURS.get(name, (255, 255, 255)), thick,
                     cv2.LINE_AA)
-        y += 16
+        y += int(36 * scale)
     return out
 
 

@@ -75,7 +75,6 @@ def evaluate(gt, dets, kind, max_dets=(1, 10, 100)):
     iou_thrs = np.linspace(0.5, 0.95, 10)
     rec_thrs = np.linspace(0.0, 1.0, 101)
     images = sorted(im["id"] for im in gt["images"])
-    size = {im["id"]: (im["height"], im["width"]) for im in gt["images"]}
     cats = sorted(c["id"] for c in gt["categories"])
     T, R, K, A, M = len(iou_thrs), len(rec_thrs), len(cats), len(AREAS), len(max_dets)
     precision = -np.ones((T, R, K, A, M))
