@@ -44,6 +44,29 @@ def rle_counts(s):
     return counts
 
 
+def rle_string(mask):
+    """COCO's compressed RLE string of a bool h x w mask: the inverse of rle_counts."""
+    flat = mask.T.reshape(-1).astype(np.uint8)
+    change = np.flatnonzero(np.diff(np.concatenate([[0], flat, [1 - flat[-1]]])))
+    runs = np.diff(np.concatenate([[0], change])).tolist()
+    if runs and runs[-1] == 0:
+        runs.pop()
+    out = []
+    for i, x in enumerate(runs):
+        if i > 2:
+            x -= runs[i - 2]
+        while True:
+            c = x & 0x1F
+            x >>= 5
+            more = x != -1 if c & 0x10 else x != 0
+            if more:
+                c |= 0x20
+            out.append(chr(c + 48))
+            if not more:
+                break
+    return "".join(out)
+
+
 def rle_decode(segmentation):
     """A {size: [h, w], counts: str} mask as an h x w bool array."""
     h, w = segmentation["size"]

@@ -24,29 +24,6 @@ _spec.loader.exec_module(coco_view)
 AREAS = [(0, 1e10), (0, 32 ** 2), (32 ** 2, 96 ** 2), (96 ** 2, 1e10)]
 
 
-def rle_string(mask):
-    """COCO's compressed RLE of a bool h x w mask (column-major runs, zeros first)."""
-    flat = mask.T.reshape(-1).astype(np.uint8)
-    change = np.flatnonzero(np.diff(np.concatenate([[0], flat, [1 - flat[-1]]])))
-    runs = np.diff(np.concatenate([[0], change])).tolist()
-    if runs and runs[-1] == 0:
-        runs.pop()
-    out = []
-    for i, x in enumerate(runs):
-        if i > 2:
-            x -= runs[i - 2]
-        while True:
-            c = x & 0x1F
-            x >>= 5
-            more = x != -1 if c & 0x10 else x != 0
-            if more:
-                c |= 0x20
-            out.append(chr(c + 48))
-            if not more:
-                break
-    return "".join(out)
-
-
 def iou_boxes(d, g, crowd):
     """len(d) x len(g) IoU of [x, y, w, h] boxes; over the detection's area for crowds."""
     if len(d) == 0 or len(g) == 0:
@@ -183,18 +160,18 @@ def random_case(rng, kind):
             b = box()
             m = mask(b)
             a = {"id": len(gt["annotations"]) + 1, "image_id": im, "category_id": rng.choice([1, 2]), "bbox": b,
-                 "area": int(m.sum()), "iscrowd": int(rng.random() < 0.1), "segmentation": {"size": [H, W], "counts": rle_string(m)}}
+                 "area": int(m.sum()), "iscrowd": int(rng.random() < 0.1), "segmentation": {"size": [H, W], "counts": coco_view.rle_string(m)}}
             gt["annotations"].append(a)
             for _ in range(rng.choice([0, 1, 1, 2])):  # missed, found, duplicated
                 j = [v + rng.choice([0, 0, 1, -2, 4]) for v in b]
                 j[2], j[3] = max(j[2], 1), max(j[3], 1)
                 j[0], j[1] = min(max(j[0], 0), W - j[2]), min(max(j[1], 0), H - j[3])
                 dets.append({"image_id": im, "category_id": a["category_id"], "score": rng.choice([0.3, 0.5, 0.5, 0.9, rng.random()]),
-                             "bbox": j, "segmentation": {"size": [H, W], "counts": rle_string(mask(j))}})
+                             "bbox": j, "segmentation": {"size": [H, W], "counts": coco_view.rle_string(mask(j))}})
         for _ in range(rng.randint(0, 6)):  # false positives
             b = box()
             dets.append({"image_id": im, "category_id": rng.choice([1, 2]), "score": rng.random(), "bbox": b,
-                         "segmentation": {"size": [H, W], "counts": rle_string(mask(b))}})
+                         "segmentation": {"size": [H, W], "counts": coco_view.rle_string(mask(b))}})
     if kind == "bbox":
         for d in dets:
             del d["segmentation"]
@@ -246,6 +223,17 @@ def main():
             s = run(exe, gt_path, scratch / "self.json", kind, scratch / "self_out.json", (1, 10, 10000))
             assert s["all"]["AP"] == 1.0 and s["all"]["AR_100"] == 1.0, s["all"]
         print(f"{split}: its own {len(dets)} annotations score AP 1 (boxes and masks)")
+        # The external baseline (scripts/baseline_detector.py) reads the images alone and
+        # writes results coco-eval accepts: berries and bunches, masks of the image's size.
+        baseline = Path(__file__).resolve().parents[3] / "scripts" / "baseline_detector.py"
+        p = subprocess.run([sys.executable, str(baseline), str(dataset), "--split", split, "--out",
+                            str(scratch / "base.json")], capture_output=True, text=True)
+        assert p.returncode == 0, p.stderr
+        base = json.loads((scratch / "base.json").read_text())
+        assert {r["category_id"] for r in base} <= {1, 2} and base, "no detections"
+        s = run(exe, gt_path, scratch / "base.json", "segm", scratch / "base_out.json")
+        assert all(-1 <= v <= 1 for v in s["all"].values()), s
+        print(f"baseline: {len(base)} detections scored, AP {s['all']['AP']:.3f}")
     return 0
 
 
