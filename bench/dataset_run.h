@@ -15,24 +15,11 @@
 #include <filesystem>
 #include <string>
 
+#include "bench/image_truth.h"
 #include "bench/progress.h"
 #include "bench/scene.h"
 
 namespace grapebench {
-
-// The annotated categories: one table for COCO (ids 1..5) and YOLO (id - 1).
-struct DatasetCategory {
-  int id;
-  const char* name;
-  const char* doc;
-};
-inline constexpr std::array<DatasetCategory, 5> kDatasetCategories{{
-    {1, "bunch", "a bunch: its berries, pedicels, rachis and peduncle"},
-    {2, "berry", "one berry (its sphere; the pedicel is the bunch's)"},
-    {3, "stalk", "the bunch's stalk: its peduncle and the bare rachis above the first branch (seed 001's cutting region)"},
-    {4, "leaf", "one leaf (including the copies of the row beside and behind the scene's vine)"},
-    {5, "cane", "one cane: the cordon or a shoot"},
-}};
 
 struct DatasetRunOptions {
   std::filesystem::path out;  // the dataset's folder: refused when it holds files, unless `resume`
