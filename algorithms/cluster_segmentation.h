@@ -42,4 +42,9 @@ std::vector<std::uint8_t> cluster_component(const RgbImage& image, ClusterSegmen
 // component spans fewer than 8 levels (nothing for Otsu to split).
 ClusterRegion segment_cluster(const RgbImage& image, const ClusterSegmentationParams& p);
 
+// Every region of at least min_cluster_px pixels, each as segment_cluster makes its
+// one (holes filled, dilated; the dilation may make neighbours overlap), largest first:
+// the paper's segmentation as a detector of several clusters in one image.
+std::vector<ClusterRegion> segment_clusters(const RgbImage& image, const ClusterSegmentationParams& p);
+
 }  // namespace grapebench

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -56,11 +58,28 @@ struct Detection {
   double score = 1;  // higher is more confident
 };
 
+// One instance found in an image (protocol detection): a record of COCO's results
+// format. Categories by name: "bunch", "berry", "stalk", "leaf", "cane"
+// (bench/image_truth.h). Pixel edges as COCO's: the top-left pixel spans [0, 1).
+struct ImageDetection {
+  std::string category;
+  double score = 1;                    // higher is more confident
+  double x = 0, y = 0, w = 0, h = 0;   // box, px
+  // The mask, 0 / 1, on the pixel rectangle [mask_x, mask_x + mask_w) x [mask_y, ...):
+  // mask_h x mask_w row-major; empty for a box only (scored as its box's pixels, as
+  // COCO's loadRes makes a box into a mask).
+  int mask_x = 0, mask_y = 0, mask_w = 0, mask_h = 0;
+  std::vector<std::uint8_t> mask;
+  std::string rle;  // or the mask as COCO's compressed RLE counts over the whole image (external programs)
+  double volume = std::numeric_limits<double>::quiet_NaN();  // m3, a bunch's, where the estimator answers it
+};
+
 // What one run of an estimator gives the harness.
 struct Estimate {
   std::vector<std::pair<Quantity, double>> values;   // scalars, SI units
   std::vector<std::pair<std::string, Vec3>> points;  // named 3D points, m, the input's frame ("cutting_point")
   std::vector<Detection> detections;                 // in the input image's pixels
+  std::vector<ImageDetection> instances;             // protocol detection: in the input (left) image
   Eigen::MatrixXd class_scores;                      // N x K per-point class scores (or 0 x 0)
   bool watertight = false;                           // for volume methods with a mesh
   // Set when the scalars could not be made (the stage that failed); the other outputs

@@ -80,7 +80,8 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
   nlohmann::ordered_json req;
   req["protocol"] = v2 ? "grapebench-estimator-2" : "grapebench-estimator-1";
   if (v2)
-    req["kind"] = in.stereo                   ? "stereo_pair"
+    req["kind"] = p.input == ExternalParams::Input::Image ? "image"
+                  : in.stereo                 ? "stereo_pair"
                   : !in.train_labels.empty() ? "classification"
                   : in.frame                 ? "single_frame"
                   : !in.views.empty()        ? "multi_view"
@@ -114,19 +115,23 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
     req["train_labels"] = in.train_labels;  // per point: class index, or -1 where to score
   }
   if (in.stereo) {
+    // stereo_pair: the rectified pair; image (protocol detection): the left image, the
+    // right one only when the sensor rendered it (else null).
     const StereoPair& s = *in.stereo;
+    const bool image = p.input == ExternalParams::Input::Image, right = !s.right.data.empty();
     std::ofstream(dir / "left.png", std::ios::binary) << rgb_image_png(s.left.width, s.left.height, s.left.data);
-    std::ofstream(dir / "right.png", std::ios::binary) << rgb_image_png(s.right.width, s.right.height, s.right.data);
-    req["stereo"] = {{"left", (dir / "left.png").string()},
-                     {"right", (dir / "right.png").string()},
-                     {"width", s.left.width},
-                     {"height", s.left.height},
-                     {"fx", s.fx},
-                     {"fy", s.fy},
-                     {"cx", s.cx},
-                     {"cy", s.cy},
-                     {"baseline", s.baseline}};
-    return req;  // the pair is the whole hand-over: no frame, no ROI
+    if (right) std::ofstream(dir / "right.png", std::ios::binary) << rgb_image_png(s.right.width, s.right.height, s.right.data);
+    req[image ? "image" : "stereo"] = {
+        {"left", (dir / "left.png").string()},
+        {"right", right ? nlohmann::ordered_json((dir / "right.png").string()) : nlohmann::ordered_json()},
+        {"width", s.left.width},
+        {"height", s.left.height},
+        {"fx", s.fx},
+        {"fy", s.fy},
+        {"cx", s.cx},
+        {"cy", s.cy},
+        {"baseline", s.baseline}};
+    return req;  // the images are the whole hand-over: no frame, no ROI
   }
   if (in.frame) {
     const InputFrame& f = *in.frame;
@@ -363,7 +368,8 @@ std::shared_ptr<PersistentPrograms> start_persistent_programs(const ExternalPara
   return std::make_shared<PersistentPrograms>(params);
 }
 
-Estimate parse_external_answer(const nlohmann::json& a, const ExternalParams& p, long points) {
+Estimate parse_external_answer(const nlohmann::json& a, const ExternalParams& p, long points, int input_width,
+                               int input_height) {
   if (!a.is_object()) fail(p, "the answer is not a JSON object");
   if (a.contains("error"))
     fail(p, "answered an error: " + (a["error"].is_string() ? a["error"].get<std::string>().substr(0, 400)
@@ -402,6 +408,40 @@ Estimate parse_external_answer(const nlohmann::json& a, const ExternalParams& p,
       e.detections.push_back({{d["x"].get<double>(), d["y"].get<double>(), d["r"].get<double>()}, score});
     }
   }
+  if (p.version == 2 && a.contains("instances")) {
+    // COCO's results records: {category, score, bbox: [x, y, w, h], segmentation:
+    // {size: [h, w], counts: "..."} (optional), volume (m3, optional)}. The mask's runs
+    // are checked by the protocol, which knows the image.
+    if (!a["instances"].is_array()) fail(p, "'instances' must be a list of {category, score, bbox, segmentation}");
+    for (std::size_t i = 0; i < a["instances"].size(); ++i) {
+      const auto& d = a["instances"][i];
+      const std::string where = "instances[" + std::to_string(i) + "]";
+      if (!d.is_object() || !d.contains("category") || !d["category"].is_string())
+        fail(p, where + ": needs 'category', a name (bunch, berry, stalk, leaf, cane)");
+      ImageDetection x;
+      x.category = d["category"].get<std::string>().substr(0, 40);
+      if (d.contains("score") && !finite_number(d["score"])) fail(p, where + ".score: must be a finite number");
+      x.score = d.contains("score") ? d["score"].get<double>() : 1.0;
+      const auto& b = d.value("bbox", nlohmann::json());
+      if (!b.is_array() || b.size() != 4 || !finite_number(b[0]) || !finite_number(b[1]) || !finite_number(b[2]) ||
+          !finite_number(b[3]) || b[2].get<double>() < 0 || b[3].get<double>() < 0)
+        fail(p, where + ".bbox: must be [x, y, w, h], finite, w and h >= 0, pixels");
+      x.x = b[0].get<double>(), x.y = b[1].get<double>(), x.w = b[2].get<double>(), x.h = b[3].get<double>();
+      if (d.contains("segmentation")) {
+        const auto& m = d["segmentation"];
+        if (!m.is_object() || !m.contains("counts") || !m["counts"].is_string() || !m.contains("size") ||
+            m["size"] != nlohmann::json::array({input_height, input_width}))
+          fail(p, where + ".segmentation: must be {size: [" + std::to_string(input_height) + ", " +
+                      std::to_string(input_width) + "], counts: a compressed RLE string}");
+        x.rle = m["counts"].get<std::string>();
+      }
+      if (d.contains("volume")) {
+        if (!finite_number(d["volume"]) || d["volume"].get<double>() < 0) fail(p, where + ".volume: must be >= 0, m3");
+        x.volume = d["volume"].get<double>();
+      }
+      e.instances.push_back(std::move(x));
+    }
+  }
   if (p.version == 2 && a.contains("class_scores")) {
     const auto& s = a["class_scores"];
     if (!s.is_array() || static_cast<long>(s.size()) != points || s.empty() || !s[0].is_array() || s[0].empty()) {
@@ -432,9 +472,12 @@ Estimate external_estimate(const EstimatorInput& input, const ExternalParams& p)
   if (p.input == ExternalParams::Input::StereoPair) {
     if (!input.stereo)
       throw InputError("external estimator: input: stereo_pair, and the protocol gives no stereo pair");
+  } else if (p.input == ExternalParams::Input::Image) {
+    if (!input.stereo) throw InputError("external estimator: input: image, and the protocol gives no image");
   } else {
     require_points(input.points, 1, "external estimator");
   }
+  const int width = input.stereo ? input.stereo->left.width : 0, height = input.stereo ? input.stereo->left.height : 0;
   const bool classify = p.input == ExternalParams::Input::LabelledCloud;
   if (classify && input.train_labels.empty())
     throw InputError("external estimator: input: labelled_cloud, and the protocol gives no training labels");
@@ -448,12 +491,12 @@ Estimate external_estimate(const EstimatorInput& input, const ExternalParams& p)
   if (p.persistent) {
     if (!p.programs) throw std::logic_error("external estimator: persistent mode without its programs");
     const auto write = [&](const fs::path& dir) { return write_request(dir, input, p); };
-    return check(parse_external_answer(p.programs->ask(write), p, input.points.rows()));
+    return check(parse_external_answer(p.programs->ask(write), p, input.points.rows(), width, height));
   }
   const TempFolder dir("grapebench-ext");
   const nlohmann::ordered_json req = write_request(dir.path, input, p);
   std::ofstream(dir.path / "request.json", std::ios::binary) << req.dump(1) << "\n";
-  return check(parse_external_answer(run_once(dir.path, p), p, input.points.rows()));
+  return check(parse_external_answer(run_once(dir.path, p), p, input.points.rows(), width, height));
 }
 
 const ParamTable<ExternalParams>& external_param_table() {
@@ -479,12 +522,15 @@ const ParamTable<ExternalParams>& external_param_table() {
           .choice("input", &P::input,
                   {{"cloud", P::Input::Cloud},
                    {"stereo_pair", P::Input::StereoPair},
-                   {"labelled_cloud", P::Input::LabelledCloud}},
-                  "what the program measures: the protocol's cloud, a colour stereo pair (protocol stereo_pair) or "
-                  "a coloured cloud with training labels (protocol classification: class_scores answer)")
+                   {"labelled_cloud", P::Input::LabelledCloud},
+                   {"image", P::Input::Image}},
+                  "what the program measures: the protocol's cloud, a colour stereo pair (protocol stereo_pair), "
+                  "a coloured cloud with training labels (protocol classification: class_scores answer) or a "
+                  "colour image (protocol detection: instances answer)")
           .when("version: 2", [](const P& p) { return p.version == 2; })
           .choice_list("quantities", &P::quantities, quantity_choices(), 1, "what the program's answer holds")
-          .when("input: cloud or stereo_pair", [](const P& p) { return p.input != P::Input::LabelledCloud; });
+          .when("input: cloud or stereo_pair",
+                [](const P& p) { return p.input == P::Input::Cloud || p.input == P::Input::StereoPair; });
   return table;
 }
 

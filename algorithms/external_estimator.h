@@ -42,7 +42,7 @@ struct ExternalParams {
   // colour stereo pair (protocol stereo_pair: left.png, right.png and the camera), or a
   // coloured cloud with training labels to score per point (protocol classification:
   // `classes`, `train_labels`; the answer is `class_scores`, no scalar).
-  enum class Input { Cloud, StereoPair, LabelledCloud };
+  enum class Input { Cloud, StereoPair, LabelledCloud, Image };
   Input input = Input::Cloud;
   nlohmann::ordered_json params = nlohmann::ordered_json::object();  // passed through to the program
   // The running programs of persistent mode (set when the estimator is created).
@@ -67,6 +67,8 @@ Estimate external_estimate(const EstimatorInput& input, const ExternalParams& pa
 
 // The answer checked against the request (exposed for tests): `points` is the number
 // of input points (rows of class_scores).
-Estimate parse_external_answer(const nlohmann::json& answer, const ExternalParams& params, long points);
+// input_width, input_height: the image of input: image (its masks' size), else 0.
+Estimate parse_external_answer(const nlohmann::json& answer, const ExternalParams& params, long points,
+                               int input_width = 0, int input_height = 0);
 
 }  // namespace grapebench

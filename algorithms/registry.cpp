@@ -11,6 +11,7 @@
 #include "algorithms/ellipsoid_fit.h"
 #include "algorithms/ellipsoid_volume.h"
 #include "algorithms/external_estimator.h"
+#include "algorithms/luo2016_instances.h"
 #include "algorithms/luo2016_stereo.h"
 #include "algorithms/mls_smooth.h"
 #include "algorithms/pca_box.h"
@@ -83,10 +84,12 @@ RegistryEntry<EstimatorBinding> external() {
       external_param_table(), ExternalParams{}, [](ExternalParams x, const ConfigNode& n) {
         substitute_scene_dir(x.command, std::filesystem::path(n.file()).parent_path().string());
         substitute_scene_dir(x.readable, std::filesystem::path(n.file()).parent_path().string());
-        if (x.input == ExternalParams::Input::LabelledCloud) x.quantities.clear();  // class scores only
+        if (x.input == ExternalParams::Input::LabelledCloud || x.input == ExternalParams::Input::Image)
+          x.quantities.clear();  // class scores, or instances, only
         if (x.persistent) x.programs = start_persistent_programs(x);
         const char* input = x.input == ExternalParams::Input::StereoPair      ? "stereo_pair"
                             : x.input == ExternalParams::Input::LabelledCloud ? "labelled_cloud"
+                            : x.input == ExternalParams::Input::Image         ? "image"
                                                                               : "cloud";
         return EstimatorBinding{x.quantities, [x](const EstimatorInput& in) { return external_estimate(in, x); },
                                 input};
@@ -184,6 +187,14 @@ const Registry<EstimatorBinding>& estimator_registry() {
                 return EstimatorBinding{{Q::HangingHeight, Q::MaxDiameter, Q::Volume},
                                         [p](const EstimatorInput& in) { return luo2016_estimate(in, p); },
                                         "stereo_pair"};
+              }),
+          entry<EstimatorBinding>(
+              "luo2016_instances",
+              "seed 001's colour segmentation as a bunch detector and its Hough circles as a berry detector, "
+              "with the bounding volume per bunch from the stereo pair (Luo et al. 2016; OpenCV)",
+              luo2016_instances_param_table(), Luo2016InstancesParams{},
+              [](const Luo2016InstancesParams& p, const ConfigNode&) {
+                return EstimatorBinding{{}, [p](const EstimatorInput& in) { return luo2016_instances(in, p); }, "image"};
               }),
           entry<EstimatorBinding>(
               "dey2012_classification",

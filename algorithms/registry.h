@@ -17,7 +17,9 @@ namespace grapebench {
 
 // A created estimator: what it reports (rows even when it fails) and the bound run.
 // `input`: what it measures, so a scene pairs it with a protocol that gives it:
-// "cloud" (multi_view, single_frame), "stereo_pair", or "any" (an external program).
+// "cloud" (multi_view, single_frame), "stereo_pair", "labelled_cloud" (classification),
+// "image" (detection: a colour image, its right image too when the sensor gives one), or
+// "any" (an external program).
 struct EstimatorBinding {
   std::vector<Quantity> quantities;
   BoundEstimator run;

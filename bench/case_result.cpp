@@ -17,7 +17,7 @@ namespace grapebench {
 namespace {
 
 // Bump when the meaning of a case file changes, so old results are recomputed.
-constexpr const char* kCaseFormat = "grapebench-case-7";
+constexpr const char* kCaseFormat = "grapebench-case-8";
 
 double truth_of(Quantity q, const GroundTruth& gt) {
   switch (q) {
@@ -231,6 +231,22 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
     for (const RocSamples& s : c.roc) roc.push_back({{"estimator", s.estimator}, {"class", s.class_name}, {"tpr", s.tpr}});
     j["roc"] = roc;
   }
+  if (!c.detection.empty()) {
+    auto objects = [](const std::vector<CocoObject>& list) {
+      nlohmann::ordered_json a = nlohmann::ordered_json::array();
+      for (const CocoObject& o : list)
+        a.push_back({{"c", o.category_id}, {"s", o.score}, {"b", o.bbox}, {"a", o.area}, {"m", rle_string(*o.mask)}});
+      return a;
+    };
+    nlohmann::ordered_json views = nlohmann::ordered_json::array();
+    for (const DetectionView& v : c.detection) {
+      nlohmann::ordered_json answers = nlohmann::ordered_json::array();
+      for (const auto& [name, list] : v.answers) answers.push_back({{"estimator", name}, {"instances", objects(list)}});
+      views.push_back({{"view", v.view}, {"station", v.station}, {"width", v.width}, {"height", v.height},
+                       {"truth", objects(v.truth)}, {"answers", answers}});
+    }
+    j["detection"] = views;
+  }
   j["digest"] = case_digest(nlohmann::json(j));
   return j;
 }
@@ -340,6 +356,33 @@ CaseResult case_from_json(const nlohmann::json& j) {
                         m.at("counts").get<std::vector<long long>>()};
       if (x.counts.size() != x.classes.size() * x.classes.size()) throw std::runtime_error("confusion of the wrong size");
       c.confusion.push_back(std::move(x));
+    }
+  }
+  if (j.contains("detection")) {
+    for (const auto& v : j.at("detection")) {
+      DetectionView d;
+      d.view = v.at("view").get<int>();
+      d.station = v.at("station").get<std::string>();
+      d.width = v.at("width").get<int>(), d.height = v.at("height").get<int>();
+      if (d.width <= 0 || d.height <= 0 || d.width > 65535 || d.height > 65535) throw std::runtime_error("detection: image size");
+      auto objects = [&](const nlohmann::json& a) {
+        std::vector<CocoObject> out;
+        for (const auto& o : a) {
+          CocoObject x;
+          x.id = static_cast<std::int64_t>(out.size()) + 1;
+          x.category_id = o.at("c").get<int>();
+          x.score = o.at("s").get<double>();
+          x.bbox = o.at("b").get<std::array<double, 4>>();
+          x.area = o.at("a").get<double>();
+          x.mask = rle_from_string(o.at("m").get<std::string>(), d.height, d.width);
+          out.push_back(std::move(x));
+        }
+        return out;
+      };
+      d.truth = objects(v.at("truth"));
+      for (const auto& a : v.at("answers"))
+        d.answers.emplace_back(a.at("estimator").get<std::string>(), objects(a.at("instances")));
+      c.detection.push_back(std::move(d));
     }
   }
   if (j.contains("roc")) {

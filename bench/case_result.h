@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bench/scene.h"
+#include "bench/scoring/coco_eval.h"
 #include "synth/ground_truth.h"
 
 namespace grapebench {
@@ -55,6 +56,18 @@ struct ConfusionCounts {
   std::vector<long long> counts;     // K x K, row-major: rows true class, columns predicted
 };
 
+// protocol detection: one view's exact instances and every estimator's answers, kept
+// whole because COCO's AP pools the detections of every image (bench/outputs.cpp).
+struct DetectionView {
+  int view = 0;
+  std::string station;        // the rig's name of the view
+  int width = 0, height = 0;  // px
+  std::vector<CocoObject> truth;  // visible masks; category ids of kDatasetCategories; ids 1..
+  // Per estimator (its scene name) that answered: its instances, masks and areas set
+  // (a box-only answer as its box's pixels); ids 1.. in answer order.
+  std::vector<std::pair<std::string, std::vector<CocoObject>>> answers;
+};
+
 inline constexpr std::size_t kPreviewPoints = 6000;
 
 struct CaseResult {
@@ -84,6 +97,7 @@ struct CaseResult {
   std::vector<EstimateRow> rows;
   std::vector<RocSamples> roc;  // classification: per estimator and class
   std::vector<ConfusionCounts> confusion;  // classification: per estimator
+  std::vector<DetectionView> detection;    // detection: per view
   // classification: the reconstruction's disparity error as the noise model's sigma_d
   // (px): 1.4826 x median |z - z_true| f b / z^2 over the matched pixels (sgbm), or the
   // model's own sd (noise_model); -1 for other protocols.

@@ -89,12 +89,13 @@ nlohmann::json read_json(const std::filesystem::path& f, const std::string& what
 }
 
 std::string run_help() {
+  const PipelineSpec defaults;  // a named object: GCC 12 warns (falsely) of a temporary's string here
   std::ostringstream s;
   s << "A scene for `run` adds to the sections of `scan` (see `grapebench scan --help`).\n"
        "Columns: key, unit, default, allowed range; then the key's meaning.\n\n"
        "protocol: how a case turns a bunch into estimates (default multi_view):\n"
     << protocol_registry().help("  ") << "\npipeline: (keys marked 'only with' apply to that protocol or setting)\n"
-    << pipeline_param_table().help(PipelineSpec{})
+    << pipeline_param_table().help(defaults)
     << "    registration: protocol multi_view: a method's name, or {type: ..., keys}:\n"
     << registration_registry().help("    ")
     << "    view_filters, cloud_filters: lists of pipeline steps {type: ..., keys}, on each view (camera\n"

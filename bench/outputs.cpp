@@ -3,6 +3,7 @@
 #include "bench/build_info.h"
 #include "bench/case_scores.h"
 #include "bench/classification_tables.h"
+#include "bench/detection_tables.h"
 #include "bench/protocols/classification.h"
 #include "bench/report.h"
 #include "bench/scene_file.h"
@@ -169,6 +170,46 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
                        {"ex_mm", jnum(c.answered ? c.ex_mm : NAN)}});
     }
     j["stereo"] = {{"cut_success", succ}, {"depth", depth}};
+  }
+  // Detection: COCO's numbers per condition, station and estimator, with intervals.
+  std::vector<int> max_detections;
+  for (const auto& c : set.conditions) max_detections.push_back(c.scene.pipeline.max_detections);
+  const DetectionTables dt = detection_tables(cases, condition_labels(set), max_detections, set.base.seed);
+  if (!dt.empty()) {
+    // COCO's names, AR_100 named after the limit in force (AR_<max_detections>).
+    int limit = 100;
+    auto stats = [&](const std::array<double, 12>& v) {
+      nlohmann::ordered_json o;
+      for (std::size_t k = 0; k < v.size(); ++k)
+        o[k == 8 ? "AR_" + std::to_string(limit) : std::string(kCocoStatNames[k])] = jnum(v[k]);
+      return o;
+    };
+    nlohmann::ordered_json cells = nlohmann::ordered_json::array(), pairs = nlohmann::ordered_json::array();
+    for (const DetectionCell& c : dt.cells) {
+      limit = c.max_detections;
+      nlohmann::ordered_json cats = nlohmann::ordered_json::array();
+      for (std::size_t k = 0; k < c.result.per_category.size(); ++k)
+        cats.push_back({{"category", c.result.per_category[k].first.name},
+                        {"stats", stats(c.result.per_category[k].second)},
+                        {"AP_ci95", interval_json(c.intervals.per_category[k].first)},
+                        {"AP50_ci95", interval_json(c.intervals.per_category[k].second)}});
+      cells.push_back({{"condition", c.condition}, {"station", c.station}, {"estimator", c.estimator},
+                       {"iou_type", c.iou_type}, {"images", c.images}, {"max_detections", c.max_detections},
+                       {"stats", stats(c.result.stats)},
+                       {"AP_ci95", interval_json(c.intervals.ap)}, {"AP50_ci95", interval_json(c.intervals.ap50)},
+                       {"per_category", cats}});
+    }
+    for (const DetectionComparison& d : dt.comparisons) {
+      nlohmann::ordered_json cats = nlohmann::ordered_json::array();
+      for (const auto& [ap, ap50] : d.difference.per_category)
+        cats.push_back({{"AP_difference_ci95", interval_json(ap)}, {"AP50_difference_ci95", interval_json(ap50)}});
+      pairs.push_back({{"condition", d.condition}, {"station", d.station}, {"a", d.a}, {"b", d.b},
+                       {"iou_type", d.iou_type}, {"images", d.images}, {"AP_difference", jnum(d.ap_difference)},
+                       {"AP_difference_ci95", interval_json(d.difference.ap)},
+                       {"AP50_difference", jnum(d.ap50_difference)},
+                       {"AP50_difference_ci95", interval_json(d.difference.ap50)}, {"per_category", cats}});
+    }
+    j["detection"] = {{"cells", cells}, {"paired_comparisons", pairs}};
   }
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const auto& r : scores) {

@@ -23,6 +23,7 @@ bool single_frame(const PipelineSpec& p) { return p.protocol == "single_frame"; 
 bool multi_view(const PipelineSpec& p) { return p.protocol == "multi_view"; }
 bool stereo_pair(const PipelineSpec& p) { return p.protocol == "stereo_pair"; }
 bool classification(const PipelineSpec& p) { return p.protocol == "classification"; }
+bool detection(const PipelineSpec& p) { return p.protocol == "detection"; }
 bool point_cloud(const PipelineSpec& p) { return multi_view(p) || single_frame(p); }
 
 nlohmann::ordered_json steps_json(const std::vector<FilterSpec>& list) {
@@ -91,6 +92,21 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
           .real("pose_translation_sd", "m", &P::pose_translation_sd, 0, 1,
                 "error of each view's pose: normal translation per axis (0: the true poses)")
           .when("poses: true", [](const P& p) { return classification(p) && p.poses == P::Poses::True; })
+          .choice_list("categories", &P::categories, names({"bunch", "berry", "stalk", "leaf", "cane"}), 1,
+                       "categories scored (bench/image_truth.h): ground truth of the others is not annotated and "
+                       "answers in them are dropped")
+          .when("protocol: detection", detection)
+          .integer("min_pixels", "px", &P::min_pixels, 1, 1000000,
+                   "a ground-truth instance needs this many visible pixels (Helios drops objects under 10 px)")
+          .when("protocol: detection", detection)
+          .integer("max_detections", "count", &P::max_detections, 10, 100000,
+                   "COCO's maxDets per image and category: the best-scored answers kept for AP and AR_max (COCO: 100; "
+                   "a bunch holds 100-200 berries, so berries need more)")
+          .when("protocol: detection", detection)
+          .real("volume_match_iou", "-", &P::volume_match_iou, 0.1, 1,
+                "an answered bunch with a volume is paired with the unpaired true bunch of highest mask IoU at or "
+                "above this (COCO's AP50 rule), for the volume rows")
+          .when("protocol: detection", detection)
           .real("split_gap", "m", &P::split_gap, 0, 10,
                 "gap along the row between the training part (x below) and the test part (x above); at least twice "
                 "the largest feature or CRF radius, so no neighbourhood is shared (seed 004 Sect. 4.2)")

@@ -94,6 +94,13 @@ struct PipelineSpec {
   double pose_rotation_sd = 0;     // deg, [0, 30]
   double pose_translation_sd = 0;  // m, [0, 1]
   double split_gap = 0.3;
+  // detection: the categories scored (kDatasetCategories' names), the fewest visible
+  // pixels of a ground-truth instance, and the mask IoU at which a bunch answer with a
+  // volume is paired with a true bunch for the volume rows.
+  std::vector<std::string> categories{"bunch", "berry"};
+  int min_pixels = 1;
+  double volume_match_iou = 0.5;
+  int max_detections = 100;  // COCO's maxDets: the last of its three limits (1, 10, this)
   double min_points = 100;  // a case with fewer bunch points fails, [4, 1e9]
   // m, sample step of the rig's visibility hull (sensors/visibility_hull.h), reported
   // as the volume row of the reference `visibility_hull`: the floor of any estimator

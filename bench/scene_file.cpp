@@ -46,6 +46,7 @@ namespace {
 void check_protocol_inputs(const ConfigNode& root, const Scene& s) {
   const std::string wanted = s.protocol == "stereo_pair"      ? "stereo_pair"
                              : s.protocol == "classification" ? "labelled_cloud"
+                             : s.protocol == "detection"      ? "image"
                                                               : "cloud";
   for (const auto& e : s.estimators) {
     if (e.input != wanted && e.input != "any") {
@@ -56,8 +57,11 @@ void check_protocol_inputs(const ConfigNode& root, const Scene& s) {
   // A vine row is seed 004's scene, or a dataset's (`grapebench dataset` reads it whatever the protocol).
   if (s.protocol == "classification" && !s.vine_row)
     root.fail("protocol", "protocol classification needs a `vine_row:` section (seed 004's scene)");
-  if (s.vine_row && s.protocol != "classification" && !root.has("dataset"))
-    root.fail("vine_row", "a `vine_row:` section goes with protocol classification (seed 004's scene) or a `dataset:` section");
+  if (s.vine_row && s.protocol != "classification" && s.protocol != "detection" && !root.has("dataset"))
+    root.fail("vine_row", "a `vine_row:` section goes with protocol classification (seed 004's scene) or detection, "
+                          "or a `dataset:` section");
+  if (s.protocol == "detection" && s.sensor && s.sensor->type() != "stereo_rgb")
+    root.fail("protocol", "detection needs a colour camera (sensor type stereo_rgb), not " + s.sensor->type());
   if (s.protocol == "stereo_pair" && !s.estimators.empty() && s.sensor && s.sensor->type() == "stereo_rgb" &&
       !static_cast<const StereoRgb&>(*s.sensor).params().right_image)
     root.fail("sensor", "right_image: false leaves protocol stereo_pair's estimators without their pair");

@@ -11,6 +11,8 @@ and writes COCO results for `grapebench coco-eval`.
   berries at the `--depth` range through the image's focal length; scored by rank.
 
 usage: baseline_detector.py DATASET --split test --out results.json
+       baseline_detector.py --request REQUEST.json | --persistent   (an external estimator
+       of protocol detection: `{type: external, version: 2, input: image, command: [...]}`)
 """
 import argparse
 import json
@@ -73,37 +75,82 @@ def detect(bgr, fx, args):
     return bunches, berries
 
 
+def image_results(bgr, fx, args):
+    """COCO results of one image, without image ids: (category id, score, box, mask)."""
+    bunches, berries = detect(bgr, fx, args)
+    h, w = bgr.shape[:2]
+    out = [(1, area / (h * w), box, m) for m, box, area in bunches]
+    for rank, (cx, cy, r) in enumerate(berries[:args.max_berries]):
+        disc = np.zeros((h, w), np.uint8)
+        cv2.circle(disc, (int(round(cx)), int(round(cy))), int(round(r)), 1, -1)
+        ys, xs = np.nonzero(disc)
+        if xs.size == 0:
+            continue
+        box = [int(xs.min()), int(ys.min()), int(xs.max() - xs.min() + 1), int(ys.max() - ys.min() + 1)]
+        out.append((2, 1.0 / (1 + rank), box, disc.astype(bool)))
+    return out, len(bunches), len(berries)
+
+
+def reply_to(req, args):
+    """The external protocol's answer to one request (docs/external-protocol.schema.json, kind image)."""
+    try:
+        if req.get("kind") != "image":
+            raise ValueError("this program measures images (input: image, protocol detection)")
+        bgr = cv2.imread(req["image"]["left"], cv2.IMREAD_COLOR)
+        if bgr is None:
+            raise ValueError("unreadable image")
+        results, nb, nr = image_results(bgr, req["image"]["fx"], args)
+        h, w = bgr.shape[:2]
+        names = {1: "bunch", 2: "berry"}
+        reply = {"instances": [{"category": names[c], "score": s, "bbox": box,
+                                "segmentation": {"size": [h, w], "counts": rle_string(m)}}
+                               for c, s, box, m in results],
+                 "notes": f"{nb} regions, {nr} circles"}
+    except ValueError as e:
+        reply = {"error": str(e)}
+    return reply
+
+
+def answer_requests(args):
+    if args.persistent:
+        for line in sys.stdin:
+            sys.stdout.write(json.dumps(reply_to(json.loads(line), args)) + "\n")
+            sys.stdout.flush()
+        return 0
+    req = json.loads(Path(args.request).read_text())
+    Path(req["answer"]).write_text(json.dumps(reply_to(req, args)))
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("dataset", type=Path)
+    ap.add_argument("dataset", type=Path, nargs="?")
     ap.add_argument("--split", default="test")
-    ap.add_argument("--out", type=Path, required=True)
+    ap.add_argument("--out", type=Path)
+    ap.add_argument("--request", type=Path, help="answer one request of grapebench's external protocol")
+    ap.add_argument("--persistent", action="store_true",
+                    help="answer the external protocol's requests as JSON lines on stdin (persistent: true)")
     ap.add_argument("--min-region", type=int, default=400, help="px (seed 001's minimum cluster, 400 px)")
     ap.add_argument("--max-bunches", type=int, default=20)
     ap.add_argument("--max-berries", type=int, default=300, help="per image, the strongest Hough circles")
     ap.add_argument("--depth", type=float, nargs=2, default=[0.8, 1.8], help="m, the distance range assumed")
     args = ap.parse_args()
+    if args.request or args.persistent:
+        return answer_requests(args)
+    if not args.dataset or not args.out:
+        ap.error("DATASET and --out, or --request")
     coco = json.loads((args.dataset / "annotations" / f"{args.split}.json").read_text())
     results = []
     for im in coco["images"]:
         bgr = cv2.imread(str(args.dataset / im["file_name"]), cv2.IMREAD_COLOR)
         if bgr is None:
             raise SystemExit(f"{im['file_name']}: unreadable")
-        bunches, berries = detect(bgr, im["intrinsics"]["fx"], args)
+        found, nb, nr = image_results(bgr, im["intrinsics"]["fx"], args)
         h, w = bgr.shape[:2]
-        for m, box, area in bunches:
-            results.append({"image_id": im["id"], "category_id": 1, "score": area / (h * w), "bbox": box,
+        for c, s, box, m in found:
+            results.append({"image_id": im["id"], "category_id": c, "score": s, "bbox": box,
                             "segmentation": {"size": [h, w], "counts": rle_string(m)}})
-        for rank, (cx, cy, r) in enumerate(berries[:args.max_berries]):
-            disc = np.zeros((h, w), np.uint8)
-            cv2.circle(disc, (int(round(cx)), int(round(cy))), int(round(r)), 1, -1)
-            ys, xs = np.nonzero(disc)
-            if xs.size == 0:
-                continue
-            box = [int(xs.min()), int(ys.min()), int(xs.max() - xs.min() + 1), int(ys.max() - ys.min() + 1)]
-            results.append({"image_id": im["id"], "category_id": 2, "score": 1.0 / (1 + rank), "bbox": box,
-                            "segmentation": {"size": [h, w], "counts": rle_string(disc.astype(bool))}})
-        print(f"{im['file_name']}: {len(bunches)} bunches, {len(berries)} berries", file=sys.stderr)
+        print(f"{im['file_name']}: {nb} bunches, {nr} berries", file=sys.stderr)
     args.out.write_text(json.dumps(results))
     return 0
 

@@ -8,14 +8,14 @@ namespace grapebench {
 
 namespace {
 
-struct CaseScene {
+struct CaptureScene {
   Bunch bunch;
   GroundTruth truth;
   RayScene rays;
 };
 
 // The bunch from its seed, its truth and the ray scene the rig's views are cast into.
-CaseScene case_scene(const Scene& scene, const BunchJob& job) {
+CaptureScene capture_scene(const Scene& scene, const BunchJob& job) {
   if (!scene.sensor || !scene.rig) throw InputError(scene.path + ": a run needs `sensor:` and `rig:` sections");
   Bunch bunch = generate_bunch(job.params, job.seed);
   GroundTruth truth = compute_ground_truth(bunch, job.params.density);
@@ -28,9 +28,26 @@ std::uint64_t scan_seed(const BunchJob& job) { return derive_seed(job.seed, 0x5c
 }  // namespace
 
 CaseCapture capture_case(const Scene& scene, const BunchJob& job) {
-  CaseScene c = case_scene(scene, job);
+  CaptureScene c = capture_scene(scene, job);
   Scan scan = scan_bunch(c.rays, *scene.sensor, *scene.rig, scene.background, scan_seed(job));
   return {std::move(c.bunch), std::move(c.truth), std::move(c.rays), std::move(scan)};
+}
+
+EstimatorInput image_input(const ScanView& view) {
+  const OrganisedCloud& c = view.cloud;
+  if (c.left_image.empty())
+    throw InputError("the sensor gives no colour image (use sensor type stereo_rgb)");
+  auto pair = std::make_shared<StereoPair>();
+  pair->left = {c.width, c.height, c.left_image};
+  if (!c.right_image.empty()) pair->right = {c.width, c.height, c.right_image};
+  const Intrinsics& k = view.camera.K;
+  pair->fx = k.fx, pair->fy = k.fy;
+  pair->cx = k.opencv_cx(), pair->cy = k.opencv_cy();
+  pair->baseline = c.baseline;
+  EstimatorInput in;
+  in.stereo = std::move(pair);
+  in.frame = InputFrame{-1, "", -1, k.width, k.height, k.fx, k.fy, k.opencv_cx(), k.opencv_cy()};
+  return in;
 }
 
 CaseResult measure_views(const Condition& condition, int condition_index, const BunchJob& job,
@@ -39,7 +56,7 @@ CaseResult measure_views(const Condition& condition, int condition_index, const 
   try {
     const Scene& scene = condition.scene;
     const auto t0 = std::chrono::steady_clock::now();
-    const CaseScene c = case_scene(scene, job);
+    const CaptureScene c = capture_scene(scene, job);
     r.scan_seconds = seconds_since(t0);
     r.views = 0;
     scan_views(c.rays, *scene.sensor, *scene.rig, scene.background, scan_seed(job), [&](ScanView&& view, std::size_t k) {

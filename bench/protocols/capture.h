@@ -22,6 +22,11 @@ struct CaseCapture {
 // stream as `grapebench scan`, so a case's scan can be written and inspected.
 CaseCapture capture_case(const Scene& scene, const BunchJob& job);
 
+// The colour image of a view as image estimators get it: the left image, the right one
+// when the sensor rendered it (with the baseline), the camera (OpenCV pixel centres).
+// Throws InputError without a colour image (a depth sensor).
+EstimatorInput image_input(const ScanView& view);
+
 // A case of a protocol that measures each view alone: the bunch, its truth and ray
 // scene, then each view measured as soon as it is captured (`measure`, view k), so a
 // pass of a thousand frames holds one; `finish` after the last. What any of them

@@ -1,6 +1,7 @@
 #include "bench/protocols/registry.h"
 
 #include "bench/protocols/classification.h"
+#include "bench/protocols/detection.h"
 #include "bench/protocols/multi_view.h"
 #include "bench/protocols/single_frame.h"
 #include "bench/protocols/stereo_pair.h"
@@ -37,6 +38,10 @@ const Registry<ProtocolRun>& protocol_registry() {
                    "a vine-row section, a camera pass made into one coloured cloud, a training and a separate test "
                    "part; class scores per test point rated against the exact labels (seed 004)",
                    run_classification),
+          protocol("detection",
+                   "per view: one colour image; instances (boxes, masks) scored by COCO's AP against the exact visible "
+                   "instances, berry count per bunch, volume per detected bunch (issue 42)",
+                   run_detection),
       });
   return registry;
 }

@@ -14,17 +14,7 @@ EstimatorInput stereo_input(const ScanView& view) {
   if (c.left_image.empty() || c.right_image.empty() || c.baseline <= 0) {
     throw InputError("protocol stereo_pair: the sensor gives no colour stereo pair (use sensor type stereo_rgb)");
   }
-  auto pair = std::make_shared<StereoPair>();
-  pair->left = {c.width, c.height, c.left_image};
-  pair->right = {c.width, c.height, c.right_image};
-  const Intrinsics& k = view.camera.K;
-  pair->fx = k.fx, pair->fy = k.fy;
-  pair->cx = k.opencv_cx(), pair->cy = k.opencv_cy();
-  pair->baseline = c.baseline;
-  EstimatorInput in;
-  in.stereo = std::move(pair);
-  in.frame = InputFrame{-1, "", -1, k.width, k.height, k.fx, k.fy, k.opencv_cx(), k.opencv_cy()};
-  return in;
+  return image_input(view);
 }
 
 double first_branch_height(const Bunch& bunch) {

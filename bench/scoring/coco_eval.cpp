@@ -9,6 +9,9 @@
 #include <unordered_map>
 
 #include "synth/config.h"
+#include "synth/rng.h"
+
+#include <tbb/parallel_for.h>
 
 namespace grapebench {
 
@@ -173,97 +176,83 @@ double box_iou(const std::array<double, 4>& d, const std::array<double, 4>& g, b
   return uni > 0 ? inter / uni : 0;
 }
 
-struct ImageEval {  // one image and category at one area range
-  std::vector<double> scores;               // detections, best first, at most max_dets.back()
-  std::vector<std::vector<char>> matched;   // [threshold][detection]
-  std::vector<std::vector<char>> ignored;   // [threshold][detection]
-  std::vector<char> gt_ignored;             // [ground truth]
-};
 
 }  // namespace
 
-CocoEvalResult coco_evaluate(const CocoGroundTruth& gt, const std::vector<CocoObject>& dets, const CocoEvalParams& p) {
-  if (p.max_dets.size() != 3) throw std::invalid_argument("coco_evaluate: three max_dets");
-  // np.linspace's values, so thresholds compare as COCOeval's do.
-  std::vector<double> iou_thr(10), rec_thr(101);
-  for (int i = 0; i < 10; ++i) iou_thr[static_cast<std::size_t>(i)] = i * ((0.95 - 0.5) / 9) + 0.5;
-  iou_thr[9] = 0.95;
-  for (int i = 0; i < 101; ++i) rec_thr[static_cast<std::size_t>(i)] = i * (1.0 / 100) + 0.0;
-  rec_thr[100] = 1.0;
-  const std::array<std::array<double, 2>, 4> areas{{{0, 1e10}, {0, 32.0 * 32}, {32.0 * 32, 96.0 * 96}, {96.0 * 96, 1e10}}};
-  const std::size_t T = iou_thr.size(), R = rec_thr.size(), A = areas.size(), M = p.max_dets.size();
-  const int max_det = p.max_dets.back();
+namespace {
+// COCOeval's thresholds (np.linspace's values, so they compare as COCOeval's do) and area ranges.
+std::vector<double> linspace(double lo, double hi, int n) {
+  std::vector<double> t(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) t[static_cast<std::size_t>(i)] = i * ((hi - lo) / (n - 1)) + lo;
+  t.back() = hi;
+  return t;
+}
+constexpr std::array<std::array<double, 2>, 4> kAreas{{{0, 1e10}, {0, 32.0 * 32}, {32.0 * 32, 96.0 * 96}, {96.0 * 96, 1e10}}};
+constexpr std::size_t kT = 10, kR = 101, kA = kAreas.size();
+}  // namespace
 
+CocoEvaluation coco_evaluate_images(const CocoGroundTruth& gt, const std::vector<CocoObject>& dets, const CocoEvalParams& p) {
+  if (p.max_dets.size() != 3) throw std::invalid_argument("coco_evaluate: three max_dets");
+  const std::vector<double> iou_thr = linspace(0.5, 0.95, static_cast<int>(kT));
+  const int max_det = p.max_dets.back();
+  CocoEvaluation out;
+  out.max_dets = p.max_dets;
   // Images in id order, categories in id order (COCOeval's sorted imgIds and catIds).
   std::vector<std::int64_t> image_ids;
   for (const CocoImage& im : gt.images) image_ids.push_back(im.id);
   std::sort(image_ids.begin(), image_ids.end());
-  std::vector<CocoCategory> cats = gt.categories;
-  std::sort(cats.begin(), cats.end(), [](const CocoCategory& a, const CocoCategory& b) { return a.id < b.id; });
-  const std::size_t K = cats.size();
+  out.images = image_ids.size();
+  out.categories = gt.categories;
+  std::sort(out.categories.begin(), out.categories.end(), [](const CocoCategory& a, const CocoCategory& b) { return a.id < b.id; });
+  const std::size_t K = out.categories.size(), I = image_ids.size();
   std::map<std::pair<std::int64_t, int>, std::vector<const CocoObject*>> gts, dts;
   for (const CocoObject& g : gt.annotations) gts[{g.image_id, g.category_id}].push_back(&g);
   for (const CocoObject& d : dets) dts[{d.image_id, d.category_id}].push_back(&d);
+  out.evals.resize(K * kA * I);
 
-  // precision[t][r][k][a][m], recall[t][k][a][m]: -1 where undefined.
-  auto pidx = [&](std::size_t t, std::size_t r, std::size_t k, std::size_t a, std::size_t m) {
-    return (((t * R + r) * K + k) * A + a) * M + m;
-  };
-  auto ridx = [&](std::size_t t, std::size_t k, std::size_t a, std::size_t m) { return ((t * K + k) * A + a) * M + m; };
-  std::vector<double> precision(T * R * K * A * M, -1.0), recall(T * K * A * M, -1.0);
-
-  for (std::size_t k = 0; k < K; ++k) {
-    // The IoUs of each image once: detections best first (stable), cut at max_det.
-    struct PerImage {
+  for (std::size_t k = 0; k < K; ++k)
+    for (std::size_t i = 0; i < I; ++i) {
+      // The IoUs of each image once: detections best first (stable), cut at max_det.
       std::vector<const CocoObject*> g, d;
-      std::vector<std::vector<double>> iou;  // [detection][ground truth]
-    };
-    std::vector<PerImage> per;
-    for (const std::int64_t img : image_ids) {
-      PerImage e;
-      const auto gi = gts.find({img, cats[k].id});
-      const auto di = dts.find({img, cats[k].id});
-      if (gi != gts.end()) e.g = gi->second;
-      if (di != dts.end()) e.d = di->second;
-      if (e.g.empty() && e.d.empty()) continue;
-      std::stable_sort(e.d.begin(), e.d.end(), [](const CocoObject* a, const CocoObject* b) { return a->score > b->score; });
-      if (e.d.size() > static_cast<std::size_t>(max_det)) e.d.resize(static_cast<std::size_t>(max_det));
-      e.iou.assign(e.d.size(), std::vector<double>(e.g.size(), 0.0));
-      for (std::size_t a = 0; a < e.d.size(); ++a)
-        for (std::size_t b = 0; b < e.g.size(); ++b) {
+      const auto gi = gts.find({image_ids[i], out.categories[k].id});
+      const auto di = dts.find({image_ids[i], out.categories[k].id});
+      if (gi != gts.end()) g = gi->second;
+      if (di != dts.end()) d = di->second;
+      if (g.empty() && d.empty()) continue;
+      std::stable_sort(d.begin(), d.end(), [](const CocoObject* a, const CocoObject* b) { return a->score > b->score; });
+      if (d.size() > static_cast<std::size_t>(max_det)) d.resize(static_cast<std::size_t>(max_det));
+      std::vector<std::vector<double>> iou(d.size(), std::vector<double>(g.size(), 0.0));  // [detection][ground truth]
+      for (std::size_t a = 0; a < d.size(); ++a)
+        for (std::size_t b = 0; b < g.size(); ++b) {
           if (p.type == CocoIouType::Bbox) {
-            e.iou[a][b] = box_iou(e.d[a]->bbox, e.g[b]->bbox, e.g[b]->iscrowd);
+            iou[a][b] = box_iou(d[a]->bbox, g[b]->bbox, g[b]->iscrowd);
           } else {
-            if (!e.g[b]->mask) throw InputError("ground truth annotation " + std::to_string(e.g[b]->id) + " has no RLE mask");
-            e.iou[a][b] = rle_iou(*e.d[a]->mask, *e.g[b]->mask, e.g[b]->iscrowd);
+            if (!g[b]->mask) throw InputError("ground truth annotation " + std::to_string(g[b]->id) + " has no RLE mask");
+            iou[a][b] = rle_iou(*d[a]->mask, *g[b]->mask, g[b]->iscrowd);
           }
         }
-      per.push_back(std::move(e));
-    }
-    for (std::size_t ai = 0; ai < A; ++ai) {
-      const double lo = areas[ai][0], hi = areas[ai][1];
-      std::vector<ImageEval> evals;
-      for (const PerImage& e : per) {
-        ImageEval ev;
-        std::vector<char> ig(e.g.size());
-        for (std::size_t b = 0; b < e.g.size(); ++b) ig[b] = e.g[b]->iscrowd || e.g[b]->area < lo || e.g[b]->area > hi;
-        std::vector<std::size_t> order(e.g.size());
+      for (std::size_t ai = 0; ai < kA; ++ai) {
+        const double lo = kAreas[ai][0], hi = kAreas[ai][1];
+        CocoImageEval& ev = out.evals[(k * kA + ai) * I + i];
+        std::vector<char> ig(g.size());
+        for (std::size_t b = 0; b < g.size(); ++b) ig[b] = g[b]->iscrowd || g[b]->area < lo || g[b]->area > hi;
+        std::vector<std::size_t> order(g.size());
         std::iota(order.begin(), order.end(), 0);
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ig[a] < ig[b]; });
-        const std::size_t D = e.d.size(), G = e.g.size();
-        ev.matched.assign(T, std::vector<char>(D, 0));
-        ev.ignored.assign(T, std::vector<char>(D, 0));
-        std::vector<std::vector<char>> gt_taken(T, std::vector<char>(G, 0));
-        for (std::size_t t = 0; t < T; ++t)
+        const std::size_t D = d.size(), G = g.size();
+        ev.matched.assign(kT, std::vector<char>(D, 0));
+        ev.ignored.assign(kT, std::vector<char>(D, 0));
+        std::vector<std::vector<char>> gt_taken(kT, std::vector<char>(G, 0));
+        for (std::size_t t = 0; t < kT; ++t)
           for (std::size_t a = 0; a < D; ++a) {
             double best = std::min(iou_thr[t], 1 - 1e-10);
             std::ptrdiff_t m = -1;
             for (std::size_t q = 0; q < G; ++q) {
               const std::size_t b = order[q];
-              if (gt_taken[t][q] && !e.g[b]->iscrowd) continue;
+              if (gt_taken[t][q] && !g[b]->iscrowd) continue;
               if (m > -1 && !ig[order[static_cast<std::size_t>(m)]] && ig[b]) break;
-              if (e.iou[a][b] < best) continue;
-              best = e.iou[a][b];
+              if (iou[a][b] < best) continue;
+              best = iou[a][b];
               m = static_cast<std::ptrdiff_t>(q);
             }
             if (m == -1) continue;
@@ -272,36 +261,53 @@ CocoEvalResult coco_evaluate(const CocoGroundTruth& gt, const std::vector<CocoOb
             gt_taken[t][static_cast<std::size_t>(m)] = 1;
           }
         for (std::size_t a = 0; a < D; ++a) {
-          const bool outside = e.d[a]->area < lo || e.d[a]->area > hi;
-          for (std::size_t t = 0; t < T; ++t)
+          const bool outside = d[a]->area < lo || d[a]->area > hi;
+          for (std::size_t t = 0; t < kT; ++t)
             if (!ev.matched[t][a] && outside) ev.ignored[t][a] = 1;
-          ev.scores.push_back(e.d[a]->score);
+          ev.scores.push_back(d[a]->score);
         }
         for (std::size_t q = 0; q < G; ++q) ev.gt_ignored.push_back(ig[order[q]]);
-        evals.push_back(std::move(ev));
       }
-      for (std::size_t mi = 0; mi < M; ++mi) {
-        const std::size_t cut = static_cast<std::size_t>(p.max_dets[mi]);
+    }
+  return out;
+}
+
+CocoEvalResult coco_accumulate(const CocoEvaluation& e, const std::vector<std::size_t>& images, bool all_ranges) {
+  const std::vector<double> rec_thr = linspace(0.0, 1.0, static_cast<int>(kR));
+  const std::size_t K = e.categories.size(), M = e.max_dets.size(), I = e.images;
+  // precision[t][r][k][a][m], recall[t][k][a][m]: -1 where undefined.
+  auto pidx = [&](std::size_t t, std::size_t r, std::size_t k, std::size_t a, std::size_t m) {
+    return (((t * kR + r) * K + k) * kA + a) * M + m;
+  };
+  auto ridx = [&](std::size_t t, std::size_t k, std::size_t a, std::size_t m) { return ((t * K + k) * kA + a) * M + m; };
+  std::vector<double> precision(kT * kR * K * kA * M, -1.0), recall(kT * K * kA * M, -1.0);
+  struct Ref {
+    double score;
+    const CocoImageEval* e;
+    std::size_t a;
+  };
+  std::vector<Ref> all;
+  std::vector<double> rc, pr;
+  for (std::size_t k = 0; k < K; ++k)
+    for (std::size_t ai = 0; ai < (all_ranges ? kA : 1); ++ai)
+      for (std::size_t mi = all_ranges ? 0 : M - 1; mi < M; ++mi) {
+        const std::size_t cut = static_cast<std::size_t>(e.max_dets[mi]);
         // Every image's first `cut` detections, merged best first (stable: image order, then rank).
-        struct Ref {
-          double score;
-          std::size_t e, a;
-        };
-        std::vector<Ref> all;
+        all.clear();
         std::size_t npig = 0;
-        for (std::size_t ei = 0; ei < evals.size(); ++ei) {
-          for (std::size_t a = 0; a < std::min(cut, evals[ei].scores.size()); ++a) all.push_back({evals[ei].scores[a], ei, a});
-          for (const char g : evals[ei].gt_ignored) npig += g == 0;
+        for (const std::size_t i : images) {
+          const CocoImageEval& ev = e.evals[(k * kA + ai) * I + i];
+          for (std::size_t a = 0; a < std::min(cut, ev.scores.size()); ++a) all.push_back({ev.scores[a], &ev, a});
+          for (const char g : ev.gt_ignored) npig += g == 0;
         }
         if (npig == 0) continue;
         std::stable_sort(all.begin(), all.end(), [](const Ref& x, const Ref& y) { return x.score > y.score; });
         const std::size_t nd = all.size();
-        for (std::size_t t = 0; t < T; ++t) {
-          std::vector<double> rc(nd), pr(nd);
+        rc.resize(nd), pr.resize(nd);
+        for (std::size_t t = 0; t < kT; ++t) {
           double tp = 0, fp = 0;
           for (std::size_t i = 0; i < nd; ++i) {
-            const ImageEval& ev = evals[all[i].e];
-            const bool ign = ev.ignored[t][all[i].a], mt = ev.matched[t][all[i].a];
+            const bool ign = all[i].e->ignored[t][all[i].a], mt = all[i].e->matched[t][all[i].a];
             if (mt && !ign) tp += 1;
             if (!mt && !ign) fp += 1;
             rc[i] = tp / static_cast<double>(npig);
@@ -310,50 +316,120 @@ CocoEvalResult coco_evaluate(const CocoGroundTruth& gt, const std::vector<CocoOb
           recall[ridx(t, k, ai, mi)] = nd ? rc[nd - 1] : 0;
           for (std::size_t i = nd; i-- > 1;)
             if (pr[i] > pr[i - 1]) pr[i - 1] = pr[i];
-          for (std::size_t r = 0; r < R; ++r) {
+          for (std::size_t r = 0; r < kR; ++r) {
             const std::size_t at = static_cast<std::size_t>(std::lower_bound(rc.begin(), rc.end(), rec_thr[r]) - rc.begin());
             precision[pidx(t, r, k, ai, mi)] = at < nd ? pr[at] : 0;
           }
         }
       }
-    }
-  }
 
-  // COCOeval.summarize() over the categories in `ks`.
+  // COCOeval.summarize() over the categories in `ks`: means of the defined (> -1) values.
   auto summarize = [&](const std::vector<std::size_t>& ks) {
-    auto mean = [](const std::vector<double>& v) {
-      double s = 0;
-      std::size_t n = 0;
-      for (const double x : v)
-        if (x > -1) s += x, ++n;
-      return n ? s / static_cast<double>(n) : -1.0;
-    };
     auto ap = [&](int t_only, std::size_t a, std::size_t m) {
-      std::vector<double> v;
-      for (std::size_t t = 0; t < T; ++t) {
+      double sum = 0;
+      std::size_t n = 0;
+      for (std::size_t t = 0; t < kT; ++t) {
         if (t_only >= 0 && t != static_cast<std::size_t>(t_only)) continue;
-        for (std::size_t r = 0; r < R; ++r)
-          for (const std::size_t k : ks) v.push_back(precision[pidx(t, r, k, a, m)]);
+        for (std::size_t r = 0; r < kR; ++r)
+          for (const std::size_t k : ks) {
+            const double x = precision[pidx(t, r, k, a, m)];
+            if (x > -1) sum += x, ++n;
+          }
       }
-      return mean(v);
+      return n ? sum / static_cast<double>(n) : -1.0;
     };
     auto ar = [&](std::size_t a, std::size_t m) {
-      std::vector<double> v;
-      for (std::size_t t = 0; t < T; ++t)
-        for (const std::size_t k : ks) v.push_back(recall[ridx(t, k, a, m)]);
-      return mean(v);
+      double sum = 0;
+      std::size_t n = 0;
+      for (std::size_t t = 0; t < kT; ++t)
+        for (const std::size_t k : ks) {
+          const double x = recall[ridx(t, k, a, m)];
+          if (x > -1) sum += x, ++n;
+        }
+      return n ? sum / static_cast<double>(n) : -1.0;
     };
     const std::size_t last = M - 1;
-    // IoU 0.5 and 0.75 are thresholds 0 and 5.
+    // IoU 0.5 and 0.75 are thresholds 0 and 5; without all_ranges only what was accumulated.
+    if (!all_ranges)
+      return std::array<double, 12>{ap(-1, 0, last), ap(0, 0, last), ap(5, 0, last), -1, -1, -1, -1, -1, ar(0, last), -1, -1, -1};
     return std::array<double, 12>{ap(-1, 0, last), ap(0, 0, last), ap(5, 0, last), ap(-1, 1, last), ap(-1, 2, last),
                                   ap(-1, 3, last), ar(0, 0), ar(0, 1), ar(0, 2), ar(1, last), ar(2, last), ar(3, last)};
   };
   CocoEvalResult result;
-  std::vector<std::size_t> all(K);
-  std::iota(all.begin(), all.end(), 0);
-  result.stats = summarize(all);
-  for (std::size_t k = 0; k < K; ++k) result.per_category.emplace_back(cats[k], summarize({k}));
+  std::vector<std::size_t> every(K);
+  std::iota(every.begin(), every.end(), 0);
+  result.stats = summarize(every);
+  for (std::size_t k = 0; k < K; ++k) result.per_category.emplace_back(e.categories[k], summarize({k}));
   return result;
+}
+
+CocoEvalResult coco_evaluate(const CocoGroundTruth& gt, const std::vector<CocoObject>& dets, const CocoEvalParams& p) {
+  const CocoEvaluation e = coco_evaluate_images(gt, dets, p);
+  std::vector<std::size_t> images(e.images);
+  std::iota(images.begin(), images.end(), 0);
+  return coco_accumulate(e, images, true);
+}
+
+namespace {
+
+// AP and AP50 overall, then per category: [2 + 2K].
+std::vector<double> ap_pair(const CocoEvalResult& r) {
+  std::vector<double> v{r.stats[0], r.stats[1]};
+  for (const auto& [c, s] : r.per_category) v.push_back(s[0]), v.push_back(s[1]);
+  return v;
+}
+
+CocoIntervals to_intervals(const std::vector<std::vector<double>>& boot, std::size_t K, double level) {
+  auto column = [&](std::size_t j) {
+    std::vector<double> v;
+    for (const auto& b : boot) v.push_back(b[j]);  // NaN: undefined in that resample, dropped
+    return percentile_interval(v, level);
+  };
+  CocoIntervals out;
+  out.ap = column(0), out.ap50 = column(1);
+  for (std::size_t k = 0; k < K; ++k) out.per_category.push_back({column(2 + 2 * k), column(3 + 2 * k)});
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
+// Resample b's image positions (sorted: image order, as COCOeval's merge), from its own
+// stream so resamples run in parallel and stay identical at any thread count.
+std::vector<std::size_t> resample(std::size_t n, std::uint64_t seed, int b) {
+  Rng rng(derive_seed(seed, static_cast<std::uint64_t>(b)));
+  std::vector<std::size_t> images(n);
+  for (std::size_t& i : images) i = static_cast<std::size_t>(rng.next() % n);
+  std::sort(images.begin(), images.end());
+  return images;
+}
+
+}  // namespace
+
+CocoIntervals coco_bootstrap(const CocoEvaluation& e, std::uint64_t seed, int resamples, double level) {
+  std::vector<std::vector<double>> boot(e.images > 0 ? static_cast<std::size_t>(resamples) : 0);
+  tbb::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t b) {
+    std::vector<double> v = ap_pair(coco_accumulate(e, resample(e.images, seed, static_cast<int>(b)), false));
+    for (double& x : v)
+      if (x <= -1) x = std::nan("");
+    boot[b] = std::move(v);
+  });
+  return to_intervals(boot, e.categories.size(), level);
+}
+
+CocoIntervals coco_bootstrap_difference(const CocoEvaluation& a, const CocoEvaluation& b, std::uint64_t seed,
+                                        int resamples, double level) {
+  if (a.images != b.images || a.categories.size() != b.categories.size())
+    throw std::invalid_argument("coco_bootstrap_difference: two evaluations of the same images and categories");
+  std::vector<std::vector<double>> boot(a.images > 0 ? static_cast<std::size_t>(resamples) : 0);
+  tbb::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t r) {
+    const std::vector<std::size_t> images = resample(a.images, seed, static_cast<int>(r));
+    std::vector<double> x = ap_pair(coco_accumulate(a, images, false)), y = ap_pair(coco_accumulate(b, images, false));
+    for (std::size_t j = 0; j < x.size(); ++j) x[j] = x[j] > -1 && y[j] > -1 ? x[j] - y[j] : std::nan("");
+    boot[r] = std::move(x);
+  });
+  return to_intervals(boot, a.categories.size(), level);
 }
 
 }  // namespace grapebench

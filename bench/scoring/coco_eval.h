@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/coco_rle.h"
+#include "bench/scoring/statistics.h"
 
 namespace grapebench {
 
@@ -68,5 +69,38 @@ struct CocoEvalResult {
 };
 CocoEvalResult coco_evaluate(const CocoGroundTruth& gt, const std::vector<CocoObject>& detections,
                              const CocoEvalParams& params);
+
+// The same in two steps, so images can be resampled: each image matched once per
+// category and area range (COCOeval.evaluate), then accumulated over any list of image
+// positions (0-based, in id order; an image listed twice counts twice).
+struct CocoImageEval {  // one image and category at one area range
+  std::vector<double> scores;              // detections, best first, at most max_dets.back()
+  std::vector<std::vector<char>> matched;  // [threshold][detection]
+  std::vector<std::vector<char>> ignored;  // [threshold][detection]
+  std::vector<char> gt_ignored;            // [ground truth]
+};
+struct CocoEvaluation {
+  std::vector<CocoCategory> categories;  // by id
+  std::size_t images = 0;
+  std::vector<int> max_dets;
+  std::vector<CocoImageEval> evals;  // [(category * 4 + area range) * images + image]
+};
+CocoEvaluation coco_evaluate_images(const CocoGroundTruth& gt, const std::vector<CocoObject>& detections,
+                                    const CocoEvalParams& params);
+// all_ranges false: only the all-area range at the last max_dets (AP, AP50, AP75 and
+// AR at the last limit; the others -1), for resampling.
+CocoEvalResult coco_accumulate(const CocoEvaluation& e, const std::vector<std::size_t>& images, bool all_ranges);
+
+// Percentile intervals of AP and AP50 (overall and per category) from `resamples`
+// resamplings of the images with replacement (images are the independent unit: a
+// detector's errors within an image are not), drawn from `seed`.
+struct CocoIntervals {
+  Interval ap, ap50;
+  std::vector<std::pair<Interval, Interval>> per_category;  // (AP, AP50), by category id
+};
+CocoIntervals coco_bootstrap(const CocoEvaluation& e, std::uint64_t seed, int resamples = 1000, double level = 0.95);
+// Two detectors on the same images: intervals of AP(a) - AP(b) over the same resamples.
+CocoIntervals coco_bootstrap_difference(const CocoEvaluation& a, const CocoEvaluation& b, std::uint64_t seed,
+                                        int resamples = 1000, double level = 0.95);
 
 }  // namespace grapebench

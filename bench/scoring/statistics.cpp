@@ -15,14 +15,14 @@
 
 namespace grapebench {
 
-namespace {
-
 Interval percentile_interval(std::vector<double> v, double level) {
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
   if (v.empty()) return {kNaN, kNaN};
   const double tail = (1 - level) / 2;
   return {quantile(v, tail), quantile(v, 1 - tail)};
 }
+
+namespace {
 
 double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 

@@ -13,6 +13,9 @@ struct Interval {
   double lo = 0, hi = 0;  // NaN, NaN when it cannot be formed (fewer than 3 pairs)
 };
 
+// The central `level` interval of bootstrap values (non-finite ones dropped).
+Interval percentile_interval(std::vector<double> values, double level);
+
 // Bootstrap intervals of a scalar output's scores: `resamples` resamplings of the
 // (estimate, truth) pairs with replacement, drawn from `seed`, made into BCa intervals
 // (bias-corrected and accelerated, Efron and Tibshirani 1993, ch. 14), which hold the

@@ -155,5 +155,46 @@ TEST(CocoEval, BadResultsAreRefusedNamingTheRecord) {
   }
 }
 
+// Resampling: an image listed twice in coco_accumulate scores as a copy of it would
+// (a new image with the same objects), so bootstrap resamples are COCO evaluations.
+TEST(CocoEval, AccumulatingAnImageTwiceEqualsEvaluatingItsCopy) {
+  Case c(2);
+  c.truth({10, 10, 20, 20}, false, 1), c.truth({50, 50, 40, 40}, false, 1), c.truth({100, 100, 30, 30}, false, 2);
+  c.det({10, 10, 20, 20}, 0.9, 1), c.det({52, 50, 40, 40}, 0.4, 1), c.det({0, 0, 10, 10}, 0.7, 2);
+  c.det({100, 104, 30, 30}, 0.6, 2);
+  const CocoEvaluation e = coco_evaluate_images(c.gt, c.dets, {});
+  const CocoEvalResult twice = coco_accumulate(e, {0, 0, 1}, true);
+  Case copy(3);  // images 1 and 2: image 1's objects; image 3: image 2's
+  for (const std::int64_t im : {1, 2}) copy.truth({10, 10, 20, 20}, false, im), copy.truth({50, 50, 40, 40}, false, im);
+  copy.truth({100, 100, 30, 30}, false, 3);
+  for (const std::int64_t im : {1, 2}) copy.det({10, 10, 20, 20}, 0.9, im), copy.det({52, 50, 40, 40}, 0.4, im);
+  copy.det({0, 0, 10, 10}, 0.7, 3), copy.det({100, 104, 30, 30}, 0.6, 3);
+  const auto expect = copy.stats();
+  for (std::size_t k = 0; k < 12; ++k) EXPECT_DOUBLE_EQ(twice.stats[k], expect[k]) << kCocoStatNames[k];
+  // And the plain evaluation is the accumulation over every image once.
+  const auto all = coco_accumulate(e, {0, 1}, true).stats, direct = c.stats();
+  for (std::size_t k = 0; k < 12; ++k) EXPECT_DOUBLE_EQ(all[k], direct[k]) << kCocoStatNames[k];
+}
+
+TEST(CocoEval, BootstrapIntervalsHoldThePointEstimateAndCollapseWhenEveryImageIsPerfect) {
+  Case perfect(6), mixed(6);
+  for (std::int64_t im = 1; im <= 6; ++im) {
+    perfect.truth({10, 10, 20, 20}, false, im), perfect.det({10, 10, 20, 20}, 0.9, im);
+    mixed.truth({10, 10, 20, 20}, false, im);
+    mixed.det(im % 2 ? std::array<double, 4>{10, 10, 20, 20} : std::array<double, 4>{100, 100, 20, 20}, 0.1 * im, im);
+  }
+  const CocoIntervals p = coco_bootstrap(coco_evaluate_images(perfect.gt, perfect.dets, {}), 7, 200);
+  EXPECT_DOUBLE_EQ(p.ap.lo, 1); EXPECT_DOUBLE_EQ(p.ap.hi, 1);
+  const CocoEvaluation me = coco_evaluate_images(mixed.gt, mixed.dets, {});
+  const double ap = coco_accumulate(me, {0, 1, 2, 3, 4, 5}, true).stats[0];
+  const CocoIntervals m = coco_bootstrap(me, 7, 400);
+  EXPECT_LT(m.ap.lo, ap); EXPECT_GT(m.ap.hi, ap);
+  EXPECT_GE(m.ap.lo, 0); EXPECT_LE(m.ap.hi, 1);
+  // Paired: the perfect detector against the mixed one, on the same resamples: AP
+  // difference > 0 in every resample that is not all-perfect.
+  const CocoIntervals d = coco_bootstrap_difference(coco_evaluate_images(perfect.gt, perfect.dets, {}), me, 7, 400);
+  EXPECT_GE(d.ap.lo, 0); EXPECT_GT(d.ap.hi, 0);
+}
+
 }  // namespace
 }  // namespace grapebench
