@@ -50,8 +50,9 @@ void check_protocol_inputs(const ConfigNode& root, const Scene& s) {
                                                               : "cloud";
   for (const auto& e : s.estimators) {
     if (e.input != wanted && e.input != "any") {
-      root.fail("estimators", "'" + e.name + "' (type " + e.type + ") measures a " + e.input + ", and protocol " +
-                                  s.protocol + " gives a " + wanted);
+      auto a = [](const std::string& kind) { return (kind == "image" ? "an " : "a ") + kind; };
+      root.fail("estimators", "'" + e.name + "' (type " + e.type + ") measures " + a(e.input) + ", and protocol " +
+                                  s.protocol + " gives " + a(wanted));
     }
   }
   // A vine row is seed 004's scene, or a dataset's (`grapebench dataset` reads it whatever the protocol).

@@ -90,6 +90,29 @@ TEST(Scene, StrictYamlAndSafeNames) {
   EXPECT_EQ(scene_error("name: seed004_green-2.b\nseed: 5\nbunches:\n  - preset: table-red\n"), "");
 }
 
+// Protocol detection: its keys, its sensor and its estimators' input are checked when
+// the scene is read.
+TEST(Scene, DetectionProtocolKeysSensorAndEstimatorsAreChecked) {
+  const std::string head = "seed: 1\nprotocol: detection\nbunches:\n  - preset: wine-red\n";
+  const std::string colour = "sensor: {type: stereo_rgb, width: 80, height: 64}\nrig: {type: stereo_stations}\n";
+  auto m = error_of(head + colour + "pipeline: {categories: [bunch, grape]}\n");
+  EXPECT_NE(m.find("pipeline.categories"), std::string::npos) << m;
+  EXPECT_NE(m.find("bunch, berry, stalk, leaf, cane"), std::string::npos) << m;
+  m = error_of(head + colour + "pipeline: {max_detections: 5}\n");
+  EXPECT_NE(m.find("pipeline.max_detections"), std::string::npos) << m;
+  EXPECT_NE(m.find("[10, 100000]"), std::string::npos) << m;
+  m = error_of(head + "sensor: {type: kinect_v2}\nrig: {type: turntable}\n");
+  EXPECT_NE(m.find("detection needs a colour camera"), std::string::npos) << m;
+  m = error_of(head + colour + "estimators:\n  - type: convex_hull\n");
+  EXPECT_NE(m.find("measures a cloud, and protocol detection gives an image"), std::string::npos) << m;
+  // Keys of other protocols are refused.
+  m = error_of(head + colour + "pipeline: {cut_tolerance: 2}\n");
+  EXPECT_NE(m.find("cut_tolerance"), std::string::npos) << m;
+  EXPECT_EQ(error_of(head + colour + "pipeline: {categories: [berry], min_pixels: 4, max_detections: 500}\n"
+                                     "estimators:\n  - {type: luo2016_instances, regions: all, depth: 1}\n"),
+            "");
+}
+
 TEST(Scene, SensorRigAndBackgroundSectionsAreStrict) {
   const Scene ok = parse_scene(
       "seed: 1\nbunches:\n  - preset: wine-red\nsensor:\n  type: d435\n  noise_scale: 2\nrig:\n  type: robot_pass\n"
