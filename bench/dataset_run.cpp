@@ -152,7 +152,13 @@ Json write_view(const Scene& scene, const LabelScene& ls, const CaseScene& cs, c
   auto file = [&](const char* folder, const std::string& ext) {
     return std::filesystem::path(folder) / split_name / (stem + ext);
   };
-  write_file_atomic(out / file("images", ".png"), png_rgb(W, H, cloud.left_image));
+  // The camera's own JPEG file when its model compresses (camera.jpeg_quality), else PNG.
+  const std::string colour_ext = cloud.left_jpeg.empty() ? ".png" : ".jpg";
+  if (cloud.left_jpeg.empty()) {
+    write_file_atomic(out / file("images", ".png"), png_rgb(W, H, cloud.left_image));
+  } else {
+    write_file_atomic(out / file("images", ".jpg"), std::string(cloud.left_jpeg.begin(), cloud.left_jpeg.end()));
+  }
   write_file_atomic(out / file("depth", ".png"), png16(W, H, depth_mm));
   if (scene.dataset.float_depth) write_file_atomic(out / file("depth", ".tiff"), tiff32(W, H, truth.depth));
   write_file_atomic(out / file("instances", ".png"), png16(W, H, truth.instance_image));
@@ -162,7 +168,7 @@ Json write_view(const Scene& scene, const LabelScene& ls, const CaseScene& cs, c
   const std::int64_t image_id = case_index * 1000 + static_cast<std::int64_t>(k) + 1;
   Json image;
   image["id"] = image_id;
-  image["file_name"] = file("images", ".png").generic_string();
+  image["file_name"] = file("images", colour_ext).generic_string();
   image["width"] = W, image["height"] = H;
   image["depth_file"] = file("depth", ".png").generic_string();
   if (scene.dataset.float_depth) image["depth_float_file"] = file("depth", ".tiff").generic_string();

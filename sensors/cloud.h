@@ -104,6 +104,7 @@ struct OrganisedCloud {
   // Rendered colour images of a stereo sensor (W x H x 3, row-major, top row first);
   // empty for depth sensors.
   std::vector<std::uint8_t> left_image, right_image;
+  std::vector<std::uint8_t> left_jpeg;  // the camera's JPEG file of left_image (jpeg_quality > 0), else empty
   double baseline = 0;          // m, left to right camera along +x (stereo sensors; 0 otherwise)
   std::uint64_t rays_cast = 0;  // rays traced for this frame (for rays-per-second figures)
 

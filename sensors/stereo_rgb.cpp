@@ -192,6 +192,7 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
     const DevelopResult dl = develop_image(l, left.K, p_.camera, derive_seed(seed, 2));
     out.baseline = p_.baseline;
     out.left_image = dl.rgb;
+    out.left_jpeg = dl.jpeg;
     if (p_.right_image) out.right_image = develop_image(r, right.K, p_.camera, derive_seed(seed, 3), dl.gain).rgb;
     for (std::size_t i = 0; i < out.size(); ++i) {
       if (out.valid[i]) out.rgb[i] = {out.left_image[3 * i], out.left_image[3 * i + 1], out.left_image[3 * i + 2]};

@@ -103,6 +103,7 @@ DevelopResult develop_image(const std::vector<float>& linear, const Intrinsics& 
     cv::Mat rgb;
     cv::cvtColor(back, rgb, cv::COLOR_BGR2RGB);
     std::copy(rgb.data, rgb.data + 3 * n, out.rgb.begin());
+    out.jpeg = std::move(bytes);
   }
   return out;
 }

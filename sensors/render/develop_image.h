@@ -40,6 +40,7 @@ struct DevelopResult {
   std::vector<std::uint8_t> rgb;  // H x W x 3, sRGB, top row first
   double gain = 0;                // the exposure applied: full scale over irradiance
   double saturated_fraction = 0;  // pixels with a channel at full scale
+  std::vector<std::uint8_t> jpeg;  // jpeg_quality > 0: the encoded file whose decoding `rgb` is
 };
 
 // `linear`: H x W x 3 irradiance, relative (1 = white paper under the full sun); every

@@ -3,7 +3,8 @@ and 2 threads byte-identical; splits without a bunch in two of them; each COCO m
 (decoded by scripts/coco_view.py's own RLE reader) equal to the instance image's pixels,
 inside its amodal mask, with its area and box; annotations linked to a 3D truth that
 projects into them; YOLO lines matching the boxes; a folder that holds files refused,
-another scene's never mixed in, and an interrupted dataset resumed to the same files.
+another scene's never mixed in, and an interrupted dataset resumed to the same files; a
+camera that stores JPEG writes its own .jpg files.
 
 usage: dataset_test.py <grapebench> <scene.yaml> <coco_view.py> <scratch folder>
 """
@@ -155,6 +156,22 @@ def main():
     p = run(exe, scene, "--out", two, "--resume")
     same_files(one, two)
     print("refused, not mixed, resumed: ok")
+
+    # A camera that stores JPEG: its own file, not a PNG of it, named by file_name.
+    jpeg = scratch / "jpeg.yaml"
+    text = scene.read_text().replace("count: 3", "count: 1").replace("  light: front\n",
+                                                                       "  light: front\n  camera: {jpeg_quality: 90}\n")
+    assert "jpeg_quality" in text
+    jpeg.write_text(text)
+    run(exe, jpeg, "--out", scratch / "jpeg_out")
+    images = [im for split in ("train", "val", "test")
+              for im in json.loads((scratch / "jpeg_out/annotations" / f"{split}.json").read_text())["images"]]
+    assert images and all(im["file_name"].endswith(".jpg") for im in images), images[:1]
+    for im in images:
+        data = (scratch / "jpeg_out" / im["file_name"]).read_bytes()
+        assert data[:2] == b"\xff\xd8", im["file_name"]
+        assert cv2.imread(str(scratch / "jpeg_out" / im["file_name"])).shape == (im["height"], im["width"], 3)
+    print(f"jpeg camera: {len(images)} .jpg images")
     return 0
 
 
