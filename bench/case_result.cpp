@@ -374,6 +374,10 @@ CaseResult case_from_json(const nlohmann::json& j) {
           x.score = o.at("s").get<double>();
           x.bbox = o.at("b").get<std::array<double, 4>>();
           x.area = o.at("a").get<double>();
+          if (x.category_id < 1 || x.category_id > 5) throw std::runtime_error("detection: category outside 1..5");
+          if (!std::isfinite(x.score) || !(x.bbox[2] >= 0) || !(x.bbox[3] >= 0) || !(x.area >= 0) ||
+              !std::isfinite(x.bbox[0] + x.bbox[1] + x.bbox[2] + x.bbox[3]))
+            throw std::runtime_error("detection: score, box or area out of range");
           x.mask = rle_from_string(o.at("m").get<std::string>(), d.height, d.width);
           out.push_back(std::move(x));
         }

@@ -15,12 +15,14 @@ DetectionTables detection_tables(const std::vector<CaseResult>& cases, const std
   for (std::size_t c = 0; c < labels.size(); ++c) {
     // The views of the condition, in case order, and their stations and estimators.
     std::vector<const DetectionView*> views;
+    std::vector<std::size_t> view_case;  // the case each view comes from (its resampling unit)
     std::vector<std::string> stations, estimators;
     std::set<int> categories;
     for (const CaseResult& cr : cases) {
       if (cr.condition != static_cast<int>(c)) continue;
       for (const DetectionView& v : cr.detection) {
         views.push_back(&v);
+        view_case.push_back(static_cast<std::size_t>(&cr - cases.data()));
         if (std::find(stations.begin(), stations.end(), v.station) == stations.end()) stations.push_back(v.station);
         for (const auto& [name, list] : v.answers)
           if (std::find(estimators.begin(), estimators.end(), name) == estimators.end()) estimators.push_back(name);
@@ -34,8 +36,14 @@ DetectionTables detection_tables(const std::vector<CaseResult>& cases, const std
       CocoGroundTruth gt;
       for (const int k : categories) gt.categories.push_back({k, kDatasetCategories[static_cast<std::size_t>(k - 1)].name});
       std::vector<const DetectionView*> in;
-      for (const DetectionView* v : views)
-        if (group == "all" || v->station == group) in.push_back(v);
+      std::map<std::size_t, std::vector<std::size_t>> by_case;  // the case's image positions
+      for (std::size_t k = 0; k < views.size(); ++k)
+        if (group == "all" || views[k]->station == group) {
+          by_case[view_case[k]].push_back(in.size());
+          in.push_back(views[k]);
+        }
+      std::vector<std::vector<std::size_t>> units;
+      for (auto& [c_index, positions] : by_case) units.push_back(std::move(positions));
       std::int64_t next_id = 1;
       for (std::size_t i = 0; i < in.size(); ++i) {
         const std::int64_t image = static_cast<std::int64_t>(i) + 1;
@@ -57,6 +65,8 @@ DetectionTables detection_tables(const std::vector<CaseResult>& cases, const std
               if (who != name) continue;
               for (CocoObject o : list) {
                 o.image_id = static_cast<std::int64_t>(i) + 1;
+                // COCO's loadRes: a box result's area is w x h (the area ranges' test).
+                if (params.type == CocoIouType::Bbox) o.area = o.bbox[2] * o.bbox[3];
                 o.id = static_cast<std::int64_t>(dets.size()) + 1;
                 dets.push_back(std::move(o));
               }
@@ -69,7 +79,8 @@ DetectionTables detection_tables(const std::vector<CaseResult>& cases, const std
           std::vector<std::size_t> all(in.size());
           for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
           cell.result = coco_accumulate(evals.back(), all, true);
-          cell.intervals = coco_bootstrap(evals.back(), derive_seed(seed, fnv1a(labels[c] + "|" + group + "|" + type)), resamples);
+          cell.intervals =
+              coco_bootstrap(evals.back(), derive_seed(seed, fnv1a(labels[c] + "|" + group + "|" + type)), resamples, 0.95, units);
           out.cells.push_back(std::move(cell));
         }
         // Paired: every two estimators over the same resamples of the images.
@@ -84,7 +95,7 @@ DetectionTables detection_tables(const std::vector<CaseResult>& cases, const std
             d.ap50_difference = ra.stats[1] - rb.stats[1];
             d.difference = coco_bootstrap_difference(evals[a], evals[b],
                                                      derive_seed(seed, fnv1a(labels[c] + "|" + group + "|" + type)),
-                                                     resamples);
+                                                     resamples, 0.95, units);
             out.comparisons.push_back(std::move(d));
           }
       }

@@ -1,7 +1,8 @@
 // The detection protocol's tables (issue 42): COCO's 12 numbers per condition, station
 // and estimator, for masks (segm) and boxes (bbox), overall and per category, with
-// bootstrap intervals of AP and AP50 over the images, and paired AP differences
-// between estimators over the same resampled images. Images are pooled over the cases
+// bootstrap intervals of AP and AP50 resampling the cases (a case's views share its
+// bunches, so the case is the independent unit), and paired AP differences between
+// estimators over the same resamples. Images are pooled over the cases
 // of a condition; a station's own rows where the rig has several (distance as a
 // station, or as a sweep axis: a condition each). An estimator that failed on an
 // image answered nothing there.

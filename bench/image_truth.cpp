@@ -92,7 +92,7 @@ std::vector<int> leaf_of_triangle(const Foliage& f, std::vector<int>& centre) {
 std::vector<PixelLabel> label_pixels(const LabelScene& ls, const CaseScene& cs, const Camera& cam) {
   const int W = cam.K.width, H = cam.K.height;
   std::vector<PixelLabel> px(static_cast<std::size_t>(W) * H);
-  const RayScene& rays = *ls.rays;
+  const RayScene& rays = ls.rays();
   const int stems = static_cast<int>(cs.scene_bunch.stems.size());
   const Eigen::Isometry3d to_cam = cam.pose.inverse();
   for_rows(H, [&](int v0, int v1) {
@@ -202,13 +202,12 @@ bool ray_triangle(const Ray& r, const Vec3& a, const Vec3& b, const Vec3& c) {
 
 LabelScene label_scene(const Scene& scene, const RayScene& rays) {
   LabelScene ls;
-  ls.rays = &rays;
+  ls.base = &rays;
   const auto& params = static_cast<const StereoRgb&>(*scene.sensor).params();
   if (params.renderer != StereoRgbParams::Renderer::OpenGl) {
     ls.render.emplace(ray_render_scene(rays, params.appearance));
-    ls.rays = &ls.render->rays();
   }
-  ls.leaf_of_tri = leaf_of_triangle(ls.rays->foliage(), ls.leaf_centre);
+  ls.leaf_of_tri = leaf_of_triangle(ls.rays().foliage(), ls.leaf_centre);
   ls.leaf_triangles.assign(ls.leaf_centre.size(), {});
   for (std::size_t t = 0; t < ls.leaf_of_tri.size(); ++t)
     ls.leaf_triangles[static_cast<std::size_t>(ls.leaf_of_tri[t])].push_back(static_cast<int>(t));
@@ -326,7 +325,7 @@ ImageTruth image_truth(const LabelScene& ls, const CaseScene& cs, const Camera& 
         return false;
       }, amo);
     } else if (cat == kLeaf) {
-      const Foliage& f = ls.rays->foliage();
+      const Foliage& f = ls.rays().foliage();
       const auto& tris = ls.leaf_triangles[static_cast<std::size_t>(index)];
       for (int t : tris)
         for (int q : f.triangles[static_cast<std::size_t>(t)]) hull.push_back(f.vertices[static_cast<std::size_t>(q)]);
@@ -341,7 +340,7 @@ ImageTruth image_truth(const LabelScene& ls, const CaseScene& cs, const Camera& 
         return false;
       }, amo);
     } else {  // cane
-      const Stem& st = ls.rays->foliage().canes[static_cast<std::size_t>(index)];
+      const Stem& st = ls.rays().foliage().canes[static_cast<std::size_t>(index)];
       add_ball(hull, st.start, st.radius), add_ball(hull, st.end, st.radius);
       abox = hull_pixels(cam, hull);
       object_mask(cam, abox, [&](const Ray& r) {

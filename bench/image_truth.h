@@ -54,8 +54,9 @@ CaseScene case_scene(const Scene& scene, const BunchJob& job);
 // What the labels are cast into: the scene's rays, or the renderer's scene with its row
 // copies (renderer ray or cycles), and the leaves as fans of triangles.
 struct LabelScene {
-  const RayScene* rays = nullptr;
-  std::optional<RayRenderScene> render;
+  const RayScene* base = nullptr;        // the scene's rays (outlive this)
+  std::optional<RayRenderScene> render;  // with the row copies, when the renderer draws them
+  const RayScene& rays() const { return render ? render->rays() : *base; }
   std::vector<int> leaf_of_tri, leaf_centre;
   std::vector<std::vector<int>> leaf_triangles;  // per leaf
 };

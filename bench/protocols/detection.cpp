@@ -29,8 +29,8 @@ std::vector<CocoObject> answer_objects(const std::vector<ImageDetection>& answer
     if (!(std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.w) && std::isfinite(a.h)) || a.w < 0 || a.h < 0)
       throw InputError(where + ": box must be finite with width and height >= 0");
     if (!a.mask.empty() &&
-        (a.mask_x < 0 || a.mask_y < 0 || a.mask_w <= 0 || a.mask_h <= 0 || a.mask_x + a.mask_w > width ||
-         a.mask_y + a.mask_h > height || a.mask.size() != static_cast<std::size_t>(a.mask_w) * a.mask_h))
+        (a.mask_x < 0 || a.mask_y < 0 || a.mask_w <= 0 || a.mask_h <= 0 || a.mask_w > width - a.mask_x ||
+         a.mask_h > height - a.mask_y || a.mask.size() != static_cast<std::size_t>(a.mask_w) * a.mask_h))
       throw InputError(where + ": mask must lie in the " + std::to_string(width) + " x " + std::to_string(height) +
                        " image and hold mask_w x mask_h values");
     if (std::find(categories.begin(), categories.end(), a.category) == categories.end()) {
@@ -53,10 +53,9 @@ std::vector<CocoObject> answer_objects(const std::vector<ImageDetection>& answer
     } else {
       // COCO's loadRes: a box result's mask is its rectangle (here the pixels whose
       // centre lies inside it).
-      const int u0 = std::clamp(static_cast<int>(std::ceil(a.x - 0.5)), 0, width);
-      const int v0 = std::clamp(static_cast<int>(std::ceil(a.y - 0.5)), 0, height);
-      const int u1 = std::clamp(static_cast<int>(std::ceil(a.x + a.w - 0.5)), 0, width);
-      const int v1 = std::clamp(static_cast<int>(std::ceil(a.y + a.h - 0.5)), 0, height);
+      // Clamped as doubles first: a hostile box of 1e20 px must not overflow the cast.
+      auto edge = [](double x, int hi) { return static_cast<int>(std::clamp(std::ceil(x - 0.5), 0.0, static_cast<double>(hi))); };
+      const int u0 = edge(a.x, width), v0 = edge(a.y, height), u1 = edge(a.x + a.w, width), v1 = edge(a.y + a.h, height);
       const std::vector<std::uint8_t> ones(static_cast<std::size_t>(std::max(0, u1 - u0)) * std::max(0, v1 - v0), 1);
       if (u1 > u0 && v1 > v0) {
         o.mask = rle_encode(ones.data(), u0, v0, u1 - u0, v1 - v0, width, height);
@@ -100,9 +99,10 @@ std::vector<EstimateRow> detection_rows(const EstimateRow& base, const std::vect
       int found = 0, visible = 0;
       for (const CocoObject& o : answered) {
         if (o.category_id != kBerry) continue;
-        const int u = static_cast<int>(std::floor(o.bbox[0] + 0.5 * o.bbox[2]));
-        const int v = static_cast<int>(std::floor(o.bbox[1] + 0.5 * o.bbox[3]));
-        if (u >= 0 && v >= 0 && u < truth.width && v < truth.height && mask[static_cast<std::size_t>(v) * truth.width + u])
+        const double cu = o.bbox[0] + 0.5 * o.bbox[2], cv = o.bbox[1] + 0.5 * o.bbox[3];
+        if (!(cu >= 0 && cv >= 0 && cu < truth.width && cv < truth.height)) continue;  // compared before the cast
+        const int u = static_cast<int>(cu), v = static_cast<int>(cv);
+        if (mask[static_cast<std::size_t>(v) * truth.width + u])
           ++found;
       }
       for (std::size_t q = 0; q < truth.truth.size(); ++q)

@@ -395,22 +395,33 @@ CocoIntervals to_intervals(const std::vector<std::vector<double>>& boot, std::si
 
 namespace {
 
-// Resample b's image positions (sorted: image order, as COCOeval's merge), from its own
-// stream so resamples run in parallel and stay identical at any thread count.
-std::vector<std::size_t> resample(std::size_t n, std::uint64_t seed, int b) {
+// Resample b's image positions: groups drawn with replacement, their images together
+// (sorted: image order, as COCOeval's merge), from b's own stream so resamples run in
+// parallel and stay identical at any thread count. No groups: each image alone.
+std::vector<std::size_t> resample(std::size_t n, const std::vector<std::vector<std::size_t>>& groups, std::uint64_t seed,
+                                  int b) {
   Rng rng(derive_seed(seed, static_cast<std::uint64_t>(b)));
-  std::vector<std::size_t> images(n);
-  for (std::size_t& i : images) i = static_cast<std::size_t>(rng.next() % n);
+  std::vector<std::size_t> images;
+  if (groups.empty()) {
+    images.resize(n);
+    for (std::size_t& i : images) i = static_cast<std::size_t>(rng.next() % n);
+  } else {
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      const auto& pick = groups[static_cast<std::size_t>(rng.next() % groups.size())];
+      images.insert(images.end(), pick.begin(), pick.end());
+    }
+  }
   std::sort(images.begin(), images.end());
   return images;
 }
 
 }  // namespace
 
-CocoIntervals coco_bootstrap(const CocoEvaluation& e, std::uint64_t seed, int resamples, double level) {
+CocoIntervals coco_bootstrap(const CocoEvaluation& e, std::uint64_t seed, int resamples, double level,
+                             const std::vector<std::vector<std::size_t>>& groups) {
   std::vector<std::vector<double>> boot(e.images > 0 ? static_cast<std::size_t>(resamples) : 0);
   tbb::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t b) {
-    std::vector<double> v = ap_pair(coco_accumulate(e, resample(e.images, seed, static_cast<int>(b)), false));
+    std::vector<double> v = ap_pair(coco_accumulate(e, resample(e.images, groups, seed, static_cast<int>(b)), false));
     for (double& x : v)
       if (x <= -1) x = std::nan("");
     boot[b] = std::move(v);
@@ -419,12 +430,12 @@ CocoIntervals coco_bootstrap(const CocoEvaluation& e, std::uint64_t seed, int re
 }
 
 CocoIntervals coco_bootstrap_difference(const CocoEvaluation& a, const CocoEvaluation& b, std::uint64_t seed,
-                                        int resamples, double level) {
+                                        int resamples, double level, const std::vector<std::vector<std::size_t>>& groups) {
   if (a.images != b.images || a.categories.size() != b.categories.size())
     throw std::invalid_argument("coco_bootstrap_difference: two evaluations of the same images and categories");
   std::vector<std::vector<double>> boot(a.images > 0 ? static_cast<std::size_t>(resamples) : 0);
   tbb::parallel_for(std::size_t{0}, boot.size(), [&](std::size_t r) {
-    const std::vector<std::size_t> images = resample(a.images, seed, static_cast<int>(r));
+    const std::vector<std::size_t> images = resample(a.images, groups, seed, static_cast<int>(r));
     std::vector<double> x = ap_pair(coco_accumulate(a, images, false)), y = ap_pair(coco_accumulate(b, images, false));
     for (std::size_t j = 0; j < x.size(); ++j) x[j] = x[j] > -1 && y[j] > -1 ? x[j] - y[j] : std::nan("");
     boot[r] = std::move(x);

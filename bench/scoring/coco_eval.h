@@ -92,15 +92,18 @@ CocoEvaluation coco_evaluate_images(const CocoGroundTruth& gt, const std::vector
 CocoEvalResult coco_accumulate(const CocoEvaluation& e, const std::vector<std::size_t>& images, bool all_ranges);
 
 // Percentile intervals of AP and AP50 (overall and per category) from `resamples`
-// resamplings of the images with replacement (images are the independent unit: a
-// detector's errors within an image are not), drawn from `seed`.
+// resamplings with replacement, drawn from `seed`: of `groups` of image positions (the
+// independent units, e.g. the views of one case, which share its bunches), or with no
+// groups of the images (a detector's errors within an image are not independent).
 struct CocoIntervals {
   Interval ap, ap50;
   std::vector<std::pair<Interval, Interval>> per_category;  // (AP, AP50), by category id
 };
-CocoIntervals coco_bootstrap(const CocoEvaluation& e, std::uint64_t seed, int resamples = 1000, double level = 0.95);
+CocoIntervals coco_bootstrap(const CocoEvaluation& e, std::uint64_t seed, int resamples = 1000, double level = 0.95,
+                             const std::vector<std::vector<std::size_t>>& groups = {});
 // Two detectors on the same images: intervals of AP(a) - AP(b) over the same resamples.
 CocoIntervals coco_bootstrap_difference(const CocoEvaluation& a, const CocoEvaluation& b, std::uint64_t seed,
-                                        int resamples = 1000, double level = 0.95);
+                                        int resamples = 1000, double level = 0.95,
+                                        const std::vector<std::vector<std::size_t>>& groups = {});
 
 }  // namespace grapebench

@@ -190,6 +190,12 @@ TEST(CocoEval, BootstrapIntervalsHoldThePointEstimateAndCollapseWhenEveryImageIs
   const CocoIntervals m = coco_bootstrap(me, 7, 400);
   EXPECT_LT(m.ap.lo, ap); EXPECT_GT(m.ap.hi, ap);
   EXPECT_GE(m.ap.lo, 0); EXPECT_LE(m.ap.hi, 1);
+  // Resampling groups: one group of every image draws the same set each time, so the
+  // interval collapses to the estimate; pairs of images give an interval of its own.
+  const CocoIntervals whole = coco_bootstrap(me, 7, 100, 0.95, {{0, 1, 2, 3, 4, 5}});
+  EXPECT_DOUBLE_EQ(whole.ap.lo, ap); EXPECT_DOUBLE_EQ(whole.ap.hi, ap);
+  const CocoIntervals pairs = coco_bootstrap(me, 7, 400, 0.95, {{0, 1}, {2, 3}, {4, 5}});
+  EXPECT_LE(pairs.ap.lo, ap); EXPECT_GE(pairs.ap.hi, ap);
   // Paired: the perfect detector against the mixed one, on the same resamples: AP
   // difference > 0 in every resample that is not all-perfect.
   const CocoIntervals d = coco_bootstrap_difference(coco_evaluate_images(perfect.gt, perfect.dets, {}), me, 7, 400);
