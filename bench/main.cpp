@@ -471,14 +471,15 @@ Command coco_eval_subcommand(CLI::App& app) {
             nlohmann::ordered_json j;
             j["iou"] = o->iou;
             j["max_dets"] = o->max_dets;
-            auto stats_json = [](const std::array<double, 12>& s) {
+            auto stats_json = [&](const std::array<double, 12>& s) {
               nlohmann::ordered_json x;
-              for (std::size_t i = 0; i < s.size(); ++i) x[kCocoStatNames[i]] = s[i];
+              for (std::size_t i = 0; i < s.size(); ++i) x[coco_stat_name(i, o->max_dets)] = s[i];
               return x;
             };
             j["all"] = stats_json(r.stats);
             std::printf("%-12s", "category");
-            for (const char* n : kCocoStatNames) std::printf(" %9s", n);
+            for (std::size_t i = 0; i < kCocoStatNames.size(); ++i)
+              std::printf(" %9s", coco_stat_name(i, o->max_dets).c_str());
             std::printf("\n%-12s", "all");
             for (const double x : r.stats) std::printf(" %9.3f", x);
             std::printf("\n");

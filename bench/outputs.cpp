@@ -180,8 +180,7 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
     int limit = 100;
     auto stats = [&](const std::array<double, 12>& v) {
       nlohmann::ordered_json o;
-      for (std::size_t k = 0; k < v.size(); ++k)
-        o[k == 8 ? "AR_" + std::to_string(limit) : std::string(kCocoStatNames[k])] = jnum(v[k]);
+      for (std::size_t k = 0; k < v.size(); ++k) o[coco_stat_name(k, {1, 10, limit})] = jnum(v[k]);
       return o;
     };
     nlohmann::ordered_json cells = nlohmann::ordered_json::array(), pairs = nlohmann::ordered_json::array();

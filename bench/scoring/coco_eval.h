@@ -63,6 +63,12 @@ struct CocoEvalParams {
 // nothing is defined (no ground truth in that category and area range).
 inline constexpr std::array<const char*, 12> kCocoStatNames{
     "AP", "AP50", "AP75", "AP_small", "AP_medium", "AP_large", "AR_1", "AR_10", "AR_100", "AR_small", "AR_medium", "AR_large"};
+// Stat k's name with the AR entries named after the limits in force (AR_<max_dets[i]>),
+// so a raised limit is never labelled AR_100.
+inline std::string coco_stat_name(std::size_t k, const std::vector<int>& max_dets) {
+  if (k >= 6 && k <= 8 && k - 6 < max_dets.size()) return "AR_" + std::to_string(max_dets[k - 6]);
+  return kCocoStatNames[k];
+}
 struct CocoEvalResult {
   std::array<double, 12> stats{};
   std::vector<std::pair<CocoCategory, std::array<double, 12>>> per_category;
