@@ -69,11 +69,8 @@ Estimate luo2016_instances(const EstimatorInput& input, const Luo2016InstancesPa
     ImageDetection bunch = region_detection(r, r.area / total);
     double depth = p.depth;
     if (stereo) {
-      // The paper's system on this region alone: the image outside it is the backdrop.
-      StereoPair one = pair;
-      for (std::size_t i = 0; i < r.mask.size(); ++i)
-        if (!r.mask[i]) one.left.data[3 * i] = one.left.data[3 * i + 1] = one.left.data[3 * i + 2] = 0;
-      const Luo2016Result s = luo2016_stereo(one, system);
+      // The paper's system on this region (its peduncle lies outside the region, above it).
+      const Luo2016Result s = luo2016_stereo(pair, system, &r);
       if (s.ok()) bunch.volume = s.volume.volume, ++volumes;
       if (p.depth <= 0 && s.cut.found() && s.cut_disparity > 0) depth = s.cutting_point.z();
     }

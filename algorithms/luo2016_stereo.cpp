@@ -42,11 +42,11 @@ void require_pair(const StereoPair& pair, int window) {
 
 }  // namespace
 
-Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p) {
+Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, const ClusterRegion* region) {
   require_pair(pair, p.matching.window);
   Luo2016Result r;
   auto t0 = std::chrono::steady_clock::now();
-  r.region = segment_cluster(pair.left, p.segmentation);
+  r.region = region ? *region : segment_cluster(pair.left, p.segmentation);
   r.seconds_segmentation = lap(t0);
   if (!r.region.found()) {
     r.failure = "no cluster region";

@@ -42,8 +42,10 @@ struct Luo2016Result {
 };
 
 // Throws InputError when the images differ in size, are not W x H x 3 or are smaller
-// than the matching window, or the camera is degenerate.
-Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p);
+// than the matching window, or the camera is degenerate. `region`: the cluster's, when
+// the caller segmented the image already (luo2016_instances, one of several regions);
+// null: the paper's segmentation, its largest region.
+Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, const ClusterRegion* region = nullptr);
 
 // The system as an estimator: the point "cutting_point" (left camera frame, m) when it
 // was matched, the berry circles as detections, and the bounding volume's

@@ -289,8 +289,9 @@ TEST(AnalyticShapes, EveryRegisteredEstimatorHasACase) {
       continue;
     }
     if (estimator_registry().create(ConfigNode::load_string(yaml, "t.yaml"), params).input == "image") {
-      // Run end to end by Detection.OracleScores... beside an oracle; no analytic image case yet.
-      EXPECT_EQ(type, "luo2016_instances") << "a new image estimator needs its case";
+      // On analytic images (luo2016_instances_test.cpp) and end to end beside an oracle
+      // (Detection.OracleScores...).
+      EXPECT_EQ(type, "luo2016_instances") << "a new image estimator needs its analytic image case";
       continue;
     }
     if (estimator_registry().create(ConfigNode::load_string(yaml, "t.yaml"), params).input == "labelled_cloud") {

@@ -1,7 +1,6 @@
 // Seed 001's whole system, created through the estimator registry as a scene names
-// it, on an analytic stereo pair: foliage far behind, a stalk and a cluster of shaded
-// berries each at its own disparity. The cutting point, the berries and the bounding
-// volume are known exactly.
+// it, on an analytic stereo pair (stereo_drawing.h's analytic_pair). The cutting point,
+// the berries and the bounding volume are known exactly.
 #include "algorithms/luo2016_stereo.h"
 
 #include <gtest/gtest.h>
@@ -14,52 +13,8 @@ namespace {
 
 using testing::Colour;
 
-struct AnalyticPair {
-  StereoPair pair;
-  double stalk_x0 = 0, stalk_x1 = 0, stalk_y0 = 0, stalk_y1 = 0;  // left image, px
-  double stalk_depth = 0;                                         // m
-  std::vector<Vec3> berries;                                      // true front-surface centres, left camera, m
-  std::vector<Circle> circles;                                    // left image, px
-};
-
-AnalyticPair analytic_pair() {
-  AnalyticPair a;
-  StereoPair& p = a.pair;
-  p.fx = p.fy = 1000, p.cx = 399.5, p.cy = 299.5, p.baseline = 0.05;
-  const auto depth_of = [&](double d) { return p.fx * p.baseline / d; };
-  const double d_background = 40, d_stalk = 80;
-  a.stalk_depth = depth_of(d_stalk);
-  a.stalk_x0 = 396, a.stalk_x1 = 404, a.stalk_y0 = 120, a.stalk_y1 = 230;
-  // Berries of 16 px (10 mm at 0.625 m) in rows, apart, disparities 78-82 px.
-  struct B {
-    double x, y, d, highlight;  // highlight: each berry its own, so NCC tells them apart
-  };
-  std::vector<B> berries;
-  const int per_row[] = {5, 6, 5, 4, 3, 2};
-  for (int row = 0; row < 6; ++row) {
-    for (int k = 0; k < per_row[row]; ++k) {
-      const double x = 400 + (k - 0.5 * (per_row[row] - 1)) * 33, y = 250 + row * 29;  // 1-1.4 px apart
-      berries.push_back({x, y, 78.0 + ((row + k) % 3) * 2, 2.39996 * static_cast<double>(berries.size())});
-    }
-  }
-  for (RgbImage* im : {&p.left, &p.right}) {
-    const double side = im == &p.left ? 0 : 1;  // right image: everything moves left by its disparity
-    *im = testing::blank(800, 600, Colour{40, 100, 28});
-    testing::draw_foliage(*im, 21, side * d_background);
-    testing::draw_bar(*im, a.stalk_x0 - side * d_stalk, a.stalk_x1 - side * d_stalk, a.stalk_y0, a.stalk_y1,
-                      Colour{150, 125, 60});
-    // Nearest last: higher disparity is nearer.
-    std::vector<B> order = berries;
-    std::stable_sort(order.begin(), order.end(), [](const B& l, const B& r) { return l.d < r.d; });
-    for (const B& b : order) testing::draw_berry(*im, b.x - side * b.d, b.y, 16, b.highlight);
-  }
-  for (const B& b : berries) {
-    const double z = depth_of(b.d);
-    a.berries.push_back({(b.x - p.cx) * z / p.fx, (b.y - p.cy) * z / p.fy, z});
-    a.circles.push_back({b.x, b.y, 16});
-  }
-  return a;
-}
+using testing::AnalyticPair;
+using testing::analytic_pair;
 
 TEST(Luo2016Stereo, FindsTheCuttingPointBerriesAndBoundingVolumeOfAnAnalyticPair) {
   const AnalyticPair a = analytic_pair();
