@@ -50,10 +50,22 @@ EstimatorInput image_input(const ScanView& view) {
   return in;
 }
 
-CaseResult measure_views(const Condition& condition, int condition_index, const BunchJob& job,
-                         const ViewMeasure& measure, const std::function<void(CaseResult&)>& finish) {
+CaseResult guarded_case(const Condition& condition, int condition_index, const BunchJob& job,
+                        const std::function<void(CaseResult&)>& body) {
   CaseResult r = new_case(condition, condition_index, job);
   try {
+    body(r);
+    r.ok = true;
+  } catch (const std::exception& e) {
+    r.ok = false;
+    r.error = escape_invalid_utf8(e.what());
+  }
+  return r;
+}
+
+CaseResult measure_views(const Condition& condition, int condition_index, const BunchJob& job,
+                         const ViewMeasure& measure, const std::function<void(CaseResult&)>& finish) {
+  return guarded_case(condition, condition_index, job, [&](CaseResult& r) {
     const Scene& scene = condition.scene;
     const auto t0 = std::chrono::steady_clock::now();
     const CaptureScene c = capture_scene(scene, job);
@@ -65,12 +77,7 @@ CaseResult measure_views(const Condition& condition, int condition_index, const 
       measure(c.bunch, c.truth, view, k, r);
     });
     if (finish) finish(r);
-    r.ok = true;
-  } catch (const std::exception& e) {
-    r.ok = false;
-    r.error = escape_invalid_utf8(e.what());
-  }
-  return r;
+  });
 }
 
 }  // namespace grapebench

@@ -27,6 +27,11 @@ CaseCapture capture_case(const Scene& scene, const BunchJob& job);
 // Throws InputError without a colour image (a depth sensor).
 EstimatorInput image_input(const ScanView& view);
 
+// A new case with `body` run on it: ok when the body returns, failed with what it
+// threw (a case's error never escapes its protocol; the run goes on with the next).
+CaseResult guarded_case(const Condition& condition, int condition_index, const BunchJob& job,
+                        const std::function<void(CaseResult&)>& body);
+
 // A case of a protocol that measures each view alone: the bunch, its truth and ray
 // scene, then each view measured as soon as it is captured (`measure`, view k), so a
 // pass of a thousand frames holds one; `finish` after the last. What any of them

@@ -6,13 +6,13 @@
 #include <cmath>
 #include <limits>
 
+#include "bench/protocols/capture.h"
 #include "bench/protocols/stereo_pair.h"
 #include "bench/scoring/classes.h"
 #include "bench/scoring/statistics.h"
 #include "sensors/mvs_reconstruction.h"
 #include "synth/generate.h"
 #include "synth/rng.h"
-#include "synth/utf8.h"
 
 namespace grapebench {
 
@@ -346,9 +346,8 @@ FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t s
 }
 
 CaseResult run_classification(const Condition& condition, int condition_index, const BunchJob& job) {
-  CaseResult r = new_case(condition, condition_index, job);
   const Scene& scene = condition.scene;
-  try {
+  return guarded_case(condition, condition_index, job, [&](CaseResult& r) {
     if (!scene.sensor || !scene.rig) throw InputError(scene.path + ": a run needs `sensor:` and `rig:` sections");
     auto t0 = std::chrono::steady_clock::now();
     const RayScene rays = build_row(scene, job);
@@ -371,12 +370,7 @@ CaseResult run_classification(const Condition& condition, int condition_index, c
                                                   &r.confusion))
         r.rows.push_back(std::move(row));
     }
-    r.ok = true;
-  } catch (const std::exception& e) {
-    r.ok = false;
-    r.error = escape_invalid_utf8(e.what());
-  }
-  return r;
+  });
 }
 
 }  // namespace grapebench

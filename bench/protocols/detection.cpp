@@ -8,7 +8,6 @@
 #include "bench/protocols/capture.h"
 #include "synth/ground_truth.h"
 #include "synth/rng.h"
-#include "synth/utf8.h"
 
 namespace grapebench {
 
@@ -150,8 +149,7 @@ std::vector<EstimateRow> detection_rows(const EstimateRow& base, const std::vect
 }
 
 CaseResult run_detection(const Condition& condition, int condition_index, const BunchJob& job) {
-  CaseResult r = new_case(condition, condition_index, job);
-  try {
+  return guarded_case(condition, condition_index, job, [&](CaseResult& r) {
     const Scene& scene = condition.scene;
     const PipelineSpec& pl = scene.pipeline;
     if (!scene.sensor || !scene.rig) throw InputError(scene.path + ": a run needs `sensor:` and `rig:` sections");
@@ -222,12 +220,7 @@ CaseResult run_detection(const Condition& condition, int condition_index, const 
       }
       r.detection.push_back(std::move(dv));
     });
-    r.ok = true;
-  } catch (const std::exception& e) {
-    r.ok = false;
-    r.error = escape_invalid_utf8(e.what());
-  }
-  return r;
+  });
 }
 
 }  // namespace grapebench
