@@ -46,6 +46,14 @@ Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, con
   require_pair(pair, p.matching.window);
   Luo2016Result r;
   auto t0 = std::chrono::steady_clock::now();
+  if (region && (region->width != pair.left.width || region->height != pair.left.height ||
+                 region->mask.size() != static_cast<std::size_t>(region->width) * region->height ||
+                 region->x0 < 0 || region->y0 < 0 || region->x1 >= region->width || region->y1 >= region->height))
+    throw InputError("luo2016_stereo: the given cluster region (" + std::to_string(region->width) + " x " +
+                     std::to_string(region->height) + ", box " + std::to_string(region->x0) + ".." +
+                     std::to_string(region->x1) + " x " + std::to_string(region->y0) + ".." +
+                     std::to_string(region->y1) + ") is not of the " + std::to_string(pair.left.width) + " x " +
+                     std::to_string(pair.left.height) + " image");
   r.region = region ? *region : segment_cluster(pair.left, p.segmentation);
   r.seconds_segmentation = lap(t0);
   if (!r.region.found()) {

@@ -65,9 +65,10 @@ inline constexpr std::array<const char*, 12> kCocoStatNames{
     "AP", "AP50", "AP75", "AP_small", "AP_medium", "AP_large", "AR_1", "AR_10", "AR_100", "AR_small", "AR_medium", "AR_large"};
 // Stat k's name with the AR entries named after the limits in force (AR_<max_dets[i]>),
 // so a raised limit is never labelled AR_100.
+// k in [0, 12); max_dets: COCO's three limits.
 inline std::string coco_stat_name(std::size_t k, const std::vector<int>& max_dets) {
-  if (k >= 6 && k <= 8 && k - 6 < max_dets.size()) return "AR_" + std::to_string(max_dets[k - 6]);
-  return kCocoStatNames[k];
+  if (k >= 6 && k <= 8 && max_dets.size() == 3) return "AR_" + std::to_string(max_dets[k - 6]);
+  return kCocoStatNames.at(k);
 }
 struct CocoEvalResult {
   std::array<double, 12> stats{};

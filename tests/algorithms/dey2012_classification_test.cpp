@@ -44,18 +44,18 @@ void add_shapes(double x0, std::uint64_t seed, std::vector<Vec3>& pts, std::vect
   }
 }
 
-struct Case {
+struct LabelledCase {
   EstimatorInput input;
   std::vector<int> truth;
 };
 
-Case analytic_case() {
+LabelledCase analytic_case() {
   std::vector<Vec3> pts;
   std::vector<int> cls;
   add_shapes(-1.0, 1, pts, cls);
   const std::size_t train = pts.size();
   add_shapes(1.0, 2, pts, cls);
-  Case c;
+  LabelledCase c;
   c.input.points = to_point_cloud(pts);
   c.input.colours.assign(pts.size(), Rgb8{90, 140, 60});
   c.input.classes = {"berry", "branch", "leaf"};
@@ -65,7 +65,7 @@ Case analytic_case() {
   return c;
 }
 
-double test_accuracy(const Case& c, const Eigen::MatrixXd& scores) {
+double test_accuracy(const LabelledCase& c, const Eigen::MatrixXd& scores) {
   int right = 0, n = 0;
   for (std::size_t i = 0; i < c.truth.size(); ++i) {
     if (c.input.train_labels[i] >= 0) continue;
@@ -83,7 +83,7 @@ struct Variant {
 class Dey2012Shapes : public ::testing::TestWithParam<Variant> {};
 
 TEST_P(Dey2012Shapes, ClassifiesBallsRodsAndDiscsByShape) {
-  const Case c = analytic_case();
+  const LabelledCase c = analytic_case();
   nlohmann::ordered_json params;
   const EstimatorBinding e = estimator_registry().create(ConfigNode::load_string(GetParam().yaml, "t.yaml"), params);
   EXPECT_EQ(e.input, "labelled_cloud");
@@ -105,7 +105,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<Variant>& i) { return std::string(i.param.name); });
 
 TEST(Dey2012Classification, RefusesInputWithoutTrainingLabels) {
-  Case c = analytic_case();
+  LabelledCase c = analytic_case();
   Dey2012Params p;
   c.input.train_labels.clear();
   EXPECT_THROW(dey2012_estimate(c.input, p), InputError);

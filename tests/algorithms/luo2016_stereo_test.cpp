@@ -81,6 +81,9 @@ TEST(Luo2016Stereo, DegeneratePairsAreInputErrors) {
   p = good;
   p.fx = std::nan("");
   EXPECT_THROW(luo2016_stereo(p, Luo2016Params{}), InputError);
+  ClusterRegion other;  // a caller's region of another image size
+  other.width = other.height = 10, other.mask.assign(100, 255), other.area = 100, other.x1 = other.y1 = 9;
+  EXPECT_THROW(luo2016_stereo(good, Luo2016Params{}, &other), InputError);
 }
 
 TEST(Luo2016Stereo, FailuresNameTheirStage) {

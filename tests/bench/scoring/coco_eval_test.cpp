@@ -32,6 +32,17 @@ struct Case {
 
 enum { AP, AP50, AP75, APs, APm, APl, AR1, AR10, AR100 };
 
+// The AR entries carry the limits in force: a raised limit is never called AR_100.
+TEST(CocoEval, StatNamesFollowTheLimits) {
+  EXPECT_EQ(coco_stat_name(0, {1, 10, 100}), "AP");
+  EXPECT_EQ(coco_stat_name(8, {1, 10, 100}), "AR_100");
+  EXPECT_EQ(coco_stat_name(6, {5, 20, 1000}), "AR_5");
+  EXPECT_EQ(coco_stat_name(7, {5, 20, 1000}), "AR_20");
+  EXPECT_EQ(coco_stat_name(8, {5, 20, 1000}), "AR_1000");
+  EXPECT_EQ(coco_stat_name(9, {5, 20, 1000}), "AR_small");
+  EXPECT_THROW(coco_stat_name(12, {1, 10, 100}), std::out_of_range);
+}
+
 TEST(CocoEval, PerfectDetectionsScoreOne) {
   Case c;
   c.truth({10, 10, 20, 20}), c.truth({50, 50, 40, 40});
