@@ -141,8 +141,13 @@ nlohmann::ordered_json write_request(const fs::path& dir, const EstimatorInput& 
   return req;
 }
 
+std::string who_of(const ExternalParams& p) {
+  if (!p.who.empty()) return p.who;
+  return p.command.empty() ? "external estimator" : "external estimator '" + p.command[0] + "'";
+}
+
 [[noreturn]] void fail(const ExternalParams& p, const std::string& why) {
-  throw InputError(escape_invalid_utf8("external estimator '" + p.command[0] + "': " + why));
+  throw InputError(escape_invalid_utf8(who_of(p) + ": " + why));
 }
 
 ProgramLimits limits_of(const ExternalParams& p) {
@@ -467,36 +472,53 @@ Estimate parse_external_answer(const nlohmann::json& a, const ExternalParams& p,
   return e;
 }
 
+const char* external_input_name(ExternalParams::Input input) {
+  switch (input) {
+    case ExternalParams::Input::StereoPair: return "stereo_pair";
+    case ExternalParams::Input::LabelledCloud: return "labelled_cloud";
+    case ExternalParams::Input::Image: return "image";
+    case ExternalParams::Input::Cloud: break;
+  }
+  return "cloud";
+}
+
+void require_external_input(const EstimatorInput& input, const ExternalParams& p) {
+  const std::string who = who_of(p);
+  if (p.input == ExternalParams::Input::StereoPair) {
+    if (!input.stereo) throw InputError(who + ": input: stereo_pair, and the protocol gives no stereo pair");
+  } else if (p.input == ExternalParams::Input::Image) {
+    if (!input.stereo) throw InputError(who + ": input: image, and the protocol gives no image");
+  } else {
+    require_points(input.points, 1, who);
+  }
+  if (p.input == ExternalParams::Input::LabelledCloud && input.train_labels.empty())
+    throw InputError(who + ": input: labelled_cloud, and the protocol gives no training labels");
+}
+
+Estimate require_class_scores(Estimate e, const EstimatorInput& input, const ExternalParams& p) {
+  if (p.input == ExternalParams::Input::LabelledCloud &&
+      (e.class_scores.rows() != input.points.rows() ||
+       e.class_scores.cols() != static_cast<Eigen::Index>(input.classes.size())))
+    fail(p, "the answer needs 'class_scores': one list of " + std::to_string(input.classes.size()) +
+                " scores per input point");
+  return e;
+}
+
 Estimate external_estimate(const EstimatorInput& input, const ExternalParams& p) {
   if (p.command.empty()) throw InputError("external estimator: empty command");
-  if (p.input == ExternalParams::Input::StereoPair) {
-    if (!input.stereo)
-      throw InputError("external estimator: input: stereo_pair, and the protocol gives no stereo pair");
-  } else if (p.input == ExternalParams::Input::Image) {
-    if (!input.stereo) throw InputError("external estimator: input: image, and the protocol gives no image");
-  } else {
-    require_points(input.points, 1, "external estimator");
-  }
+  require_external_input(input, p);
   const int width = input.stereo ? input.stereo->left.width : 0, height = input.stereo ? input.stereo->left.height : 0;
-  const bool classify = p.input == ExternalParams::Input::LabelledCloud;
-  if (classify && input.train_labels.empty())
-    throw InputError("external estimator: input: labelled_cloud, and the protocol gives no training labels");
-  const auto check = [&](Estimate e) {
-    if (classify && (e.class_scores.rows() != input.points.rows() ||
-                     e.class_scores.cols() != static_cast<Eigen::Index>(input.classes.size())))
-      fail(p, "the answer needs 'class_scores': one list of " + std::to_string(input.classes.size()) +
-                  " scores per input point");
-    return e;
-  };
   if (p.persistent) {
     if (!p.programs) throw std::logic_error("external estimator: persistent mode without its programs");
     const auto write = [&](const fs::path& dir) { return write_request(dir, input, p); };
-    return check(parse_external_answer(p.programs->ask(write), p, input.points.rows(), width, height));
+    return require_class_scores(parse_external_answer(p.programs->ask(write), p, input.points.rows(), width, height),
+                                input, p);
   }
   const TempFolder dir("grapebench-ext");
   const nlohmann::ordered_json req = write_request(dir.path, input, p);
   std::ofstream(dir.path / "request.json", std::ios::binary) << req.dump(1) << "\n";
-  return check(parse_external_answer(run_once(dir.path, p), p, input.points.rows(), width, height));
+  return require_class_scores(parse_external_answer(run_once(dir.path, p), p, input.points.rows(), width, height),
+                              input, p);
 }
 
 const ParamTable<ExternalParams>& external_param_table() {

@@ -45,6 +45,9 @@ struct ExternalParams {
   enum class Input { Cloud, StereoPair, LabelledCloud, Image };
   Input input = Input::Cloud;
   nlohmann::ordered_json params = nlohmann::ordered_json::object();  // passed through to the program
+  // Who answers, in messages: empty for "external estimator '<command[0]>'" (the
+  // Python estimator names its function).
+  std::string who;
   // The running programs of persistent mode (set when the estimator is created).
   std::shared_ptr<PersistentPrograms> programs;
 };
@@ -70,5 +73,13 @@ Estimate external_estimate(const EstimatorInput& input, const ExternalParams& pa
 // input_width, input_height: the image of input: image (its masks' size), else 0.
 Estimate parse_external_answer(const nlohmann::json& answer, const ExternalParams& params, long points,
                                int input_width = 0, int input_height = 0);
+
+// The scene's name of an input kind ("cloud", "stereo_pair", "labelled_cloud", "image").
+const char* external_input_name(ExternalParams::Input input);
+// InputError unless the protocol's hand-over holds what p.input needs (also for
+// algorithms/python_estimator.h).
+void require_external_input(const EstimatorInput& input, const ExternalParams& p);
+// `e` back, or InputError when a classifier's answer lacks a score per point and class.
+Estimate require_class_scores(Estimate e, const EstimatorInput& input, const ExternalParams& p);
 
 }  // namespace grapebench

@@ -17,6 +17,7 @@
 #include "algorithms/pca_box.h"
 #include "algorithms/percentile_box.h"
 #include "algorithms/poisson_volume.h"
+#include "algorithms/python_estimator.h"
 #include "algorithms/section_perimeters.h"
 #include "algorithms/voxel_volume.h"
 
@@ -87,12 +88,27 @@ RegistryEntry<EstimatorBinding> external() {
         if (x.input == ExternalParams::Input::LabelledCloud || x.input == ExternalParams::Input::Image)
           x.quantities.clear();  // class scores, or instances, only
         if (x.persistent) x.programs = start_persistent_programs(x);
-        const char* input = x.input == ExternalParams::Input::StereoPair      ? "stereo_pair"
-                            : x.input == ExternalParams::Input::LabelledCloud ? "labelled_cloud"
-                            : x.input == ExternalParams::Input::Image         ? "image"
-                                                                              : "cloud";
         return EstimatorBinding{x.quantities, [x](const EstimatorInput& in) { return external_estimate(in, x); },
-                                input};
+                                external_input_name(x.input)};
+      });
+}
+
+// A Python function in-process: imported when the scene is read, so a missing module
+// or function fails there with file:line.
+RegistryEntry<EstimatorBinding> python() {
+  return entry<EstimatorBinding>(
+      "python", "a Python function run in-process on numpy arrays (docs/python.md); set `module`",
+      python_param_table(), PythonParams{}, [](PythonParams x, const ConfigNode& n) {
+        substitute_scene_dir(x.path, std::filesystem::path(n.file()).parent_path().string());
+        if (x.input == ExternalParams::Input::LabelledCloud || x.input == ExternalParams::Input::Image)
+          x.quantities.clear();
+        try {
+          x.callable = load_python_function(x);
+        } catch (const InputError& e) {
+          n.fail("module", e.what());
+        }
+        return EstimatorBinding{x.quantities, [x](const EstimatorInput& in) { return python_estimate(in, x); },
+                                external_input_name(x.input)};
       });
 }
 
@@ -206,6 +222,7 @@ const Registry<EstimatorBinding>& estimator_registry() {
                     {}, [p](const EstimatorInput& in) { return dey2012_estimate(in, p); }, "labelled_cloud"};
               }),
           external(),
+          python(),
       });
   return registry;
 }

@@ -16,7 +16,7 @@ std::vector<EstimatorSpec> estimators_from_arguments(const std::vector<std::stri
   std::string yaml = "estimators:\n";
   if (arguments.empty()) {
     for (const auto& type : estimator_registry().types()) {
-      if (type != "external") yaml += "  - {type: " + type + "}\n";
+      if (type != "external" && type != "python") yaml += "  - {type: " + type + "}\n";
     }
   }
   for (const auto& a : arguments) {

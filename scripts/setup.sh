@@ -27,6 +27,7 @@ packages=(
   bubblewrap      # external programs run in a sandbox (synth/confined_program.h)
   clang libfuzzer-14-dev  # scripts/fuzz.sh and the fuzz targets' short runs in the test suite
   slurm-wlm munge  # tests/bench/slurm: a one-node Slurm cluster runs scripts/slurm_sweep.sh (daemons only in the test)
+  pybind11-dev python3-dev python3-pytest python3-venv  # the Python package (python/, docs/python.md)
   blender  # renderer: cycles, the physically based reference (sensors/render/cycles_scene.py), headless
 )
 

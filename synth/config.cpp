@@ -5,8 +5,13 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/parser.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <regex>
 #include <fstream>
 #include <optional>
 #include <set>
@@ -296,6 +301,47 @@ std::vector<double> ConfigNode::get_real_list_any(const std::string& key, std::s
                   " numbers in [" + fmt(lo) + ", " + fmt(hi) + "]");
   }
   return get_real_list(key, v.size(), lo, hi);
+}
+
+namespace {
+
+nlohmann::ordered_json yaml_json(const YAML::Node& n) {
+  if (n.IsMap()) {
+    nlohmann::ordered_json o = nlohmann::ordered_json::object();
+    for (const auto& kv : n) o[kv.first.Scalar()] = yaml_json(kv.second);
+    return o;
+  }
+  if (n.IsSequence()) {
+    nlohmann::ordered_json a = nlohmann::ordered_json::array();
+    for (const auto& e : n) a.push_back(yaml_json(e));
+    return a;
+  }
+  if (n.IsNull()) return nullptr;
+  const std::string& s = n.Scalar();
+  if (n.Tag() == "!") return s;  // quoted: a string whatever it spells
+  static const std::regex null_re("~|null|Null|NULL"), true_re("true|True|TRUE"), false_re("false|False|FALSE"),
+      int_re("[-+]?[0-9]+"), real_re("[-+]?(\\.[0-9]+|[0-9]+(\\.[0-9]*)?)([eE][-+]?[0-9]+)?");
+  if (std::regex_match(s, null_re)) return nullptr;
+  if (std::regex_match(s, true_re)) return true;
+  if (std::regex_match(s, false_re)) return false;
+  if (std::regex_match(s, int_re)) {
+    std::int64_t i = 0;
+    const auto [end, ec] = std::from_chars(s.data() + (s[0] == '+'), s.data() + s.size(), i);
+    if (ec == std::errc() && end == s.data() + s.size()) return i;
+  }
+  if (std::regex_match(s, real_re)) {
+    const double x = std::strtod(s.c_str(), nullptr);
+    if (std::isfinite(x)) return x;
+  }
+  return s;
+}
+
+}  // namespace
+
+nlohmann::ordered_json ConfigNode::get_json(const std::string& key) const {
+  const YAML::Node v = value(key);
+  if (!v.IsMap()) fail(key, "expected a mapping of keys to values");
+  return yaml_json(v);
 }
 
 ConfigNode ConfigNode::child(const std::string& key) const {

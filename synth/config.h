@@ -6,6 +6,7 @@
 
 #include "synth/types.h"
 
+#include <nlohmann/json_fwd.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>
@@ -59,6 +60,10 @@ class ConfigNode {
   // A list of between min_count and max_count numbers, each in [lo, hi].
   std::vector<double> get_real_list_any(const std::string& key, std::size_t min_count, std::size_t max_count,
                                         double lo, double hi) const;
+  // A free document (a mapping) as JSON, every key in it counted as read: plain
+  // scalars become null, true / false, integers or finite numbers as YAML 1.2's core
+  // schema reads them, anything else (and every quoted scalar) a string.
+  nlohmann::ordered_json get_json(const std::string& key) const;
   // A nested mapping (must be a mapping) or a sequence of mappings.
   ConfigNode child(const std::string& key) const;
   std::vector<ConfigNode> children(const std::string& key) const;

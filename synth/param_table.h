@@ -246,6 +246,32 @@ class ParamTable {
     return add(std::move(r));
   }
 
+  // One free string (a module's name, say); at least one character.
+  template <class F>
+  ParamTable& string(std::string key, F f, std::string doc) {
+    Row r = row(std::move(key), "-", "a string", std::move(doc));
+    r.read = [f](const ConfigNode& n, const std::string& k, T& v) {
+      std::string s = n.get_string(k, std::invoke(f, v));
+      if (s.empty()) n.fail(k, "must not be empty");
+      std::invoke(f, v) = std::move(s);
+    };
+    r.get = [f](const T& v) { return nlohmann::ordered_json(std::invoke(f, v)); };
+    r.text = [g = r.get](const T& v) { return g(v).dump(); };
+    r.in_range = [f](const T& v) { return !std::invoke(f, v).empty(); };
+    return add(std::move(r));
+  }
+
+  // A free mapping handed through as JSON (ConfigNode::get_json): keys that only the
+  // receiver knows (a Python estimator's own parameters).
+  template <class F>
+  ParamTable& document(std::string key, F f, std::string doc) {
+    Row r = row(std::move(key), "-", "a mapping", std::move(doc));
+    r.read = [f](const ConfigNode& n, const std::string& k, T& v) { std::invoke(f, v) = n.get_json(k); };
+    r.get = [f](const T& v) { return nlohmann::ordered_json(std::invoke(f, v)); };
+    r.text = [g = r.get](const T& v) { return g(v).dump(); };
+    return add(std::move(r));
+  }
+
   // A nested mapping read by its own table (the ICP settings of a
   // registration...).
   template <class F, class S = Field<F>>

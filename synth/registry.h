@@ -24,6 +24,9 @@ struct RegistryEntry {
   std::string type;
   std::string summary;  // one line: paper, equation, what it does
   std::function<std::vector<KeyInfo>()> keys;
+  // Every key that applies at the defaults, with its default value typed (JSON), as
+  // `create` writes them for an entry written with no keys (the Python docs' signatures).
+  std::function<nlohmann::ordered_json()> defaults;
   // Reads the entry's keys from the scene mapping (the scene reader reports the
   // keys nobody read) and writes them, defaults filled, to `params` for the
   // manifest.
@@ -41,6 +44,7 @@ RegistryEntry<Product> entry(std::string type, std::string summary, ParamTable<P
   e.type = std::move(type);
   e.summary = std::move(summary);
   e.keys = [t, d] { return t->keys(*d); };
+  e.defaults = [t, d] { return t->to_json(*d); };
   e.create = [t, d, build](const ConfigNode& node, nlohmann::ordered_json& params) -> Product {
     P p = *d;
     t->read(node, p);

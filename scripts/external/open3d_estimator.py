@@ -14,6 +14,11 @@ them), the quantities wanted and, in version 2, the individual views with their 
 (multi_view) or the frame and its ROI (single_frame). The answer holds one number per
 quantity (volume in m3, lengths in m) and optionally "watertight" and "notes".
 
+In-process (a scene's {type: python, module: open3d_estimator, path: [...]}; docs/python.md):
+grapebench calls estimate(request) with the same request, arrays in place of files
+("cloud" N x 3, "normals", "viewpoints"), and reads the same answer; the request's
+"params" ({method, alpha, depth}) choose the method there.
+
 Methods: convex_hull (Open3D's qhull), poisson (depth 8; normals from the sensor,
 turned toward each point's camera, where version 2 hands them over, else estimated
 and turned away from the centroid), alpha_shape (--alpha, metres). Lengths (height,
@@ -27,6 +32,7 @@ import numpy as np
 import open3d as o3d
 
 PROTOCOLS = ("grapebench-estimator-1", "grapebench-estimator-2")
+METHODS = ("convex_hull", "poisson", "alpha_shape")
 PLY_TYPES = {"double": "<f8", "float": "<f4", "uchar": "u1", "int": "<i4"}
 
 
@@ -57,12 +63,12 @@ def principal_extents(xyz):
     return np.sort(extent)[::-1]
 
 
-def volume_of(args, xyz, normals, viewpoints):
+def volume_of(method, alpha, depth, xyz, normals, viewpoints):
     pcd = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(xyz))
-    if args.method == "convex_hull":
+    if method == "convex_hull":
         mesh, _ = pcd.compute_convex_hull()
-    elif args.method == "alpha_shape":
-        mesh = o3d.geometry.TriangleMesh.create_from_point_cloud_alpha_shape(pcd, args.alpha)
+    elif method == "alpha_shape":
+        mesh = o3d.geometry.TriangleMesh.create_from_point_cloud_alpha_shape(pcd, alpha)
     else:
         if normals is not None and viewpoints is not None:
             n = normals.copy()  # the sensor's normals, turned toward each point's camera
@@ -72,7 +78,7 @@ def volume_of(args, xyz, normals, viewpoints):
             n = np.asarray(pcd.normals)
             n[np.einsum("ij,ij->i", n, xyz - xyz.mean(axis=0)) < 0] *= -1
         pcd.normals = o3d.utility.Vector3dVector(n)
-        mesh, _ = o3d.geometry.TriangleMesh.create_from_point_cloud_poisson(pcd, depth=args.depth)
+        mesh, _ = o3d.geometry.TriangleMesh.create_from_point_cloud_poisson(pcd, depth=depth)
     # Closed: every edge has two triangles and every vertex one fan. (Open3D's
     # is_watertight() also tests self-intersection, quadratic in the triangles: 15 s
     # on an 80k-triangle hull; get_volume() repeats it.) The volume is the signed
@@ -85,16 +91,10 @@ def volume_of(args, xyz, normals, viewpoints):
     return float(volume), watertight, len(t)
 
 
-def answer(args, req):
+def measure(req, xyz, normals, viewpoints, method, alpha, depth):
+    """The answer to a request whose cloud is xyz (N x 3, m)."""
     if req.get("protocol") not in PROTOCOLS:
         raise ValueError("unknown protocol %r" % req.get("protocol"))
-    ply = read_ply(req["cloud"])
-    if len(ply) != req["points"]:
-        raise ValueError("read %d points, the request says %d" % (len(ply), req["points"]))
-    names = ply.dtype.names
-    xyz = np.stack([ply["x"], ply["y"], ply["z"]], axis=1).astype(float)
-    normals = np.stack([ply["nx"], ply["ny"], ply["nz"]], axis=1) if "nx" in names else None
-    viewpoints = np.stack([ply["vx"], ply["vy"], ply["vz"]], axis=1) if "vx" in names else None
     out, notes = {}, ["open3d %s" % o3d.__version__, req["protocol"]]
     if req.get("kind"):
         notes.append(req["kind"])
@@ -107,8 +107,8 @@ def answer(args, req):
     extents = principal_extents(xyz)
     for q in req["quantities"]:
         if q == "volume":
-            out["volume"], out["watertight"], triangles = volume_of(args, xyz, normals, viewpoints)
-            notes.append("%s %d triangles" % (args.method, triangles))
+            out["volume"], out["watertight"], triangles = volume_of(method, alpha, depth, xyz, normals, viewpoints)
+            notes.append("%s %d triangles" % (method, triangles))
         elif q in ("height", "length", "width"):
             out[q] = float(extents[("height", "length", "width").index(q)])
         elif q in ("size_major", "size_minor"):
@@ -119,9 +119,33 @@ def answer(args, req):
     return out
 
 
+def estimate(request):
+    """In-process entry point: the request with arrays (algorithms/python_estimator.h)."""
+    p = request.get("params", {})
+    method = p.get("method", "convex_hull")
+    if method not in METHODS:
+        raise ValueError("params.method: one of %s, not %r" % (", ".join(METHODS), method))
+    return measure(request, request["cloud"], request.get("normals"), request.get("viewpoints"), method,
+                   float(p.get("alpha", 0.025)), int(p.get("depth", 8)))
+
+
+def answer(args, req):
+    """Per-case and persistent modes: the request names a PLY file."""
+    if req.get("protocol") not in PROTOCOLS:
+        raise ValueError("unknown protocol %r" % req.get("protocol"))
+    ply = read_ply(req["cloud"])
+    if len(ply) != req["points"]:
+        raise ValueError("read %d points, the request says %d" % (len(ply), req["points"]))
+    names = ply.dtype.names
+    xyz = np.stack([ply["x"], ply["y"], ply["z"]], axis=1).astype(float)
+    normals = np.stack([ply["nx"], ply["ny"], ply["nz"]], axis=1) if "nx" in names else None
+    viewpoints = np.stack([ply["vx"], ply["vy"], ply["vz"]], axis=1) if "vx" in names else None
+    return measure(req, xyz, normals, viewpoints, args.method, args.alpha, args.depth)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--method", choices=["convex_hull", "poisson", "alpha_shape"], default="convex_hull")
+    ap.add_argument("--method", choices=METHODS, default="convex_hull")
     ap.add_argument("--alpha", type=float, default=0.025, help="alpha shape radius, m")
     ap.add_argument("--depth", type=int, default=8, help="Poisson octree depth")
     ap.add_argument("--persistent", action="store_true", help="answer JSON lines on stdin, one line each on stdout")

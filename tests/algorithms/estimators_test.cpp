@@ -13,6 +13,7 @@
 #include "algorithms/cylinder_model_volume.h"
 #include "algorithms/pca_box.h"
 #include "algorithms/poisson_volume.h"
+#include "algorithms/python_estimator.h"
 #include "algorithms/registry.h"
 #include "algorithms/voxel_volume.h"
 #include "synth/rng.h"
@@ -152,6 +153,7 @@ class AnalyticShapes : public ::testing::TestWithParam<Case> {};
 
 TEST_P(AnalyticShapes, EstimateMatchesKnownAnswer) {
   const Case& k = GetParam();
+  if (k.label == "python" && !python_available()) GTEST_SKIP() << "built without Python (GRAPEBENCH_BUILD_PYTHON)";
   const Shape s = k.shape();
   const double got = estimate(k, s), want = k.expected(s);
   std::printf("[estimator] %-11s %-16s %-11s estimate %.6g, expected %.6g, error %+.3f %%\n", k.label.c_str(),
@@ -185,6 +187,9 @@ const std::string kPBCurved = "type: poisson\nsolver: screened\ncurved: true";
 // The Open3D example program (python3-open3d) through the external protocol.
 const std::string kExternal = std::string("type: external\ncommand: [/usr/bin/python3, \"") + GRAPEBENCH_SOURCE_DIR +
                               "/scripts/external/open3d_estimator.py\"]";
+// The same Open3D hull in-process (algorithms/python_estimator.h).
+const std::string kPython = std::string("type: python\nmodule: open3d_estimator\npath: [\"") + GRAPEBENCH_SOURCE_DIR +
+                            "/scripts/external\"]";
 const std::string kCylinderFit = "type: cylinder_fit\nnormal_weight: 0\nmax_distance: 0.002";
 constexpr Quantity V = Quantity::Volume;
 
@@ -262,6 +267,7 @@ std::vector<Case> cases() {
       {"EV", "type: ellipsoid_volume", ellipsoid, V, solid, 1e-4},
       // An external program (Open3D's hull) answers as CH does.
       {"external", kExternal, sphere, V, hull, 0.005},
+      {"python", kPython, sphere, V, hull, 0.005},
   };
 }
 
@@ -283,7 +289,10 @@ TEST(AnalyticShapes, EveryRegisteredEstimatorHasACase) {
   // classifiers of a labelled cloud on analytic shapes (dey2012_classification_test.cpp).
   for (const auto& type : estimator_registry().types()) {
     nlohmann::ordered_json params;
-    std::string yaml = "type: " + type + (type == "external" ? "\ncommand: [x]\nquantities: [volume]" : "");
+    if (type == "python" && !python_available()) continue;
+    std::string yaml = "type: " + type + (type == "external" ? "\ncommand: [x]\nquantities: [volume]"
+                                          : type == "python" ? "\nmodule: json\nfunction: dumps"
+                                                             : "");
     if (estimator_registry().create(ConfigNode::load_string(yaml, "t.yaml"), params).input == "stereo_pair") {
       EXPECT_EQ(type, "luo2016_stereo") << "a new stereo estimator needs its analytic pair case";
       continue;

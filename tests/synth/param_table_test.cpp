@@ -221,3 +221,60 @@ TEST(Registry, FindsByTypeAndNamesTheRegisteredOnes) {
 
 }  // namespace
 }  // namespace grapebench
+
+namespace grapebench {
+namespace {
+
+struct Free {
+  std::string module = "m";
+  nlohmann::ordered_json params = nlohmann::ordered_json::object();
+};
+
+const ParamTable<Free>& free_table() {
+  static const ParamTable<Free> t = ParamTable<Free>()
+                                        .string("module", &Free::module, "a name")
+                                        .document("params", &Free::params, "handed through");
+  return t;
+}
+
+// A free mapping keeps YAML 1.2's core types: what a Python estimator's own settings
+// arrive as (algorithms/python_estimator.h).
+TEST(ParamTable, ADocumentKeepsYamlTypesAndAStringMustNotBeEmpty) {
+  Free f;
+  const auto node = ConfigNode::load_string(
+      "module: mine\nparams: {i: 3, neg: -2, x: 2.5e-3, t: true, F: False, s: hello, q: '7', n: null, tilde: ~, "
+      "l: [1, two, 3.0], m: {k: [yes]}, big: 123456789012345678901234567890, inf: .inf}\n",
+      "free.yaml");
+  free_table().read(node, f);
+  node.report_unused();
+  EXPECT_EQ(f.module, "mine");
+  const auto& p = f.params;
+  EXPECT_TRUE(p["i"].is_number_integer()) << p.dump();
+  EXPECT_EQ(p["i"], 3);
+  EXPECT_EQ(p["neg"], -2);
+  EXPECT_TRUE(p["x"].is_number_float());
+  EXPECT_DOUBLE_EQ(p["x"].get<double>(), 2.5e-3);
+  EXPECT_EQ(p["t"], true);
+  EXPECT_EQ(p["F"], false);
+  EXPECT_EQ(p["s"], "hello");
+  EXPECT_EQ(p["q"], "7");  // quoted: a string
+  EXPECT_TRUE(p["n"].is_null() && p["tilde"].is_null());
+  EXPECT_EQ(p["l"].dump(), "[1,\"two\",3.0]");
+  EXPECT_EQ(p["m"]["k"][0], "yes");  // YAML 1.2: yes is a string
+  EXPECT_TRUE(p["big"].is_number_float());  // past 64 bits: the nearest double
+  EXPECT_EQ(p["inf"], ".inf");               // not finite: kept as written
+  EXPECT_EQ(free_table().to_json(f)["params"], p);
+
+  Free g;
+  EXPECT_THROW(free_table().read(ConfigNode::load_string("params: [1, 2]\n", "free.yaml"), g), InputError);
+  try {
+    free_table().read(ConfigNode::load_string("module: ''\n", "free.yaml"), g);
+    FAIL() << "an empty string was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("free.yaml:1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("must not be empty"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace grapebench

@@ -1,0 +1,263 @@
+// The extension behind `import grapebench` (python/grapebench/__init__.py wraps it):
+// scenes read with the harness's own strict readers, bunches with their exact truth as
+// numpy arrays, the registered estimators on numpy clouds, and `run`. Documents cross
+// as JSON text (the harness's own writers), turned into dicts on the Python side.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <functional>
+
+#include "algorithms/registry.h"
+#include "bench/protocols/capture.h"
+#include "bench/protocols/registration_methods.h"
+#include "bench/protocols/registry.h"
+#include "bench/runner.h"
+#include "bench/scene.h"
+#include "bench/scene_file.h"
+#include "synth/config.h"
+#include "synth/generate.h"
+#include "synth/ground_truth.h"
+#include "synth/io.h"
+#include "sensors/rig.h"
+#include "sensors/sensor_registry.h"
+
+namespace py = pybind11;
+using namespace grapebench;
+
+namespace {
+
+// A numpy array that owns a copy of `rows` x `cols` doubles (row-major).
+py::array_t<double> matrix(std::size_t rows, std::size_t cols, const std::function<double(std::size_t, std::size_t)>& at) {
+  py::array_t<double> a(std::vector<py::ssize_t>{static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+  auto m = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < rows; ++i)
+    for (std::size_t j = 0; j < cols; ++j) m(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) = at(i, j);
+  return a;
+}
+
+py::array_t<double> vector_of(std::size_t n, const std::function<double(std::size_t)>& at) {
+  py::array_t<double> a(static_cast<py::ssize_t>(n));
+  auto m = a.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < n; ++i) m(static_cast<py::ssize_t>(i)) = at(i);
+  return a;
+}
+
+const BunchJob& job_of(const SceneSet& set, const std::vector<BunchJob>& jobs, int index) {
+  if (index < 0 || static_cast<std::size_t>(index) >= jobs.size())
+    throw InputError(set.base.path + ": bunch index " + std::to_string(index) + " out of range [0, " +
+                     std::to_string(static_cast<long long>(jobs.size()) - 1) + "]");
+  return jobs[static_cast<std::size_t>(index)];
+}
+
+// One bunch of the scene: its geometry as arrays and its ground-truth document (the
+// one `grapebench synth` writes) as JSON text.
+py::dict synth_bunch(const SceneSet& set, int index) {
+  const std::vector<BunchJob> jobs = bunch_jobs(set.base);
+  const BunchJob& job = job_of(set, jobs, index);
+  GenerationReport report;
+  Bunch b;
+  GroundTruth truth;
+  {
+    py::gil_scoped_release free;  // other Python threads run while the bunch is made
+    b = generate_bunch(job.params, job.seed, &report);
+    truth = compute_ground_truth(b, job.params.density);
+  }
+  const BunchRecord record{job.preset, job.seed, job.index, job.params, report};
+  py::dict d;
+  d["preset"] = job.preset;
+  d["index"] = job.index;
+  d["seed"] = job.seed;
+  d["berry_centres"] = matrix(b.berries.size(), 3, [&](std::size_t i, std::size_t j) { return b.berries[i].centre[static_cast<int>(j)]; });
+  d["berry_radii"] = vector_of(b.berries.size(), [&](std::size_t i) { return b.berries[i].radius; });
+  d["stem_starts"] = matrix(b.stems.size(), 3, [&](std::size_t i, std::size_t j) { return b.stems[i].start[static_cast<int>(j)]; });
+  d["stem_ends"] = matrix(b.stems.size(), 3, [&](std::size_t i, std::size_t j) { return b.stems[i].end[static_cast<int>(j)]; });
+  d["stem_radii"] = vector_of(b.stems.size(), [&](std::size_t i) { return b.stems[i].radius; });
+  py::list parts;
+  for (const Stem& s : b.stems) parts.append(std::string(part_name(s.part)));
+  d["stem_parts"] = parts;
+  d["cutting_point"] = vector_of(3, [&](std::size_t j) { return b.cutting_point[static_cast<int>(j)]; });
+  d["truth_json"] = ground_truth_json(b, truth, record).dump();
+  return d;
+}
+
+// A numpy view of `data` (shape, strides in bytes) kept alive by `owner`: no copy.
+template <class T>
+py::array_t<T> view_of(const T* data, std::vector<py::ssize_t> shape, std::vector<py::ssize_t> strides,
+                       const py::capsule& owner) {
+  return py::array_t<T>(std::move(shape), std::move(strides), data, owner);
+}
+
+// One bunch's scan as `grapebench scan` captures it (the case's scan of `grapebench
+// run`): per view the organised arrays (H x W), handed out without copies: each view
+// is moved into an object its arrays' base owns. Where a pixel has no return, xyz and
+// normal are NaN and rgb 0; where it sees nothing, berry is -1 and true_depth 0 (the
+// sensor leaves those pixels unset). valid and label are copies (the sensor's pooled
+// maps go back to their pool).
+py::list scan_of(const SceneSet& set, int index) {
+  static_assert(sizeof(Eigen::Vector3f) == 12 && sizeof(std::array<std::uint8_t, 3>) == 3, "packed pixels");
+  const std::vector<BunchJob> jobs = bunch_jobs(set.base);
+  const BunchJob& job = job_of(set, jobs, index);
+  std::optional<CaseCapture> c;
+  {
+    py::gil_scoped_release free;
+    c.emplace(capture_case(set.base, job));
+  }
+  py::list out;
+  for (ScanView& v : c->scan.views) {
+    auto* owned = new ScanView(std::move(v));
+    const py::capsule base(owned, [](void* p) { delete static_cast<ScanView*>(p); });
+    OrganisedCloud& oc = owned->cloud;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (std::size_t i = 0; i < oc.size(); ++i) {
+      if (!oc.valid[i]) oc.xyz[i].setConstant(nan), oc.normal[i].setConstant(nan), oc.rgb[i] = {0, 0, 0};
+      if (oc.label[i] == static_cast<std::uint8_t>(Part::None)) oc.berry[i] = -1, oc.true_depth[i] = 0;
+    }
+    const py::ssize_t h = oc.height, w = oc.width;
+    const auto bytes = [&](const ByteMap& m) {
+      py::array_t<std::uint8_t> a(std::vector<py::ssize_t>{h, w});
+      std::copy(m.begin(), m.end(), a.mutable_data());
+      return a;
+    };
+    py::dict d;
+    d["name"] = owned->rig.name;
+    d["pose"] = matrix(4, 4, [&](std::size_t r, std::size_t k) {
+      return owned->camera.pose.matrix()(static_cast<int>(r), static_cast<int>(k));
+    });
+    const Intrinsics& K = owned->camera.K;
+    d["intrinsics"] = py::dict(py::arg("width") = K.width, py::arg("height") = K.height, py::arg("fx") = K.fx,
+                               py::arg("fy") = K.fy, py::arg("cx") = K.opencv_cx(), py::arg("cy") = K.opencv_cy());
+    d["valid"] = bytes(oc.valid);
+    d["label"] = bytes(oc.label);
+    d["berry"] = view_of(oc.berry.data(), {h, w}, {w * 4, 4}, base);
+    d["xyz"] = view_of(oc.xyz.data()->data(), {h, w, 3}, {w * 12, 12, 4}, base);
+    d["normal"] = view_of(oc.normal.data()->data(), {h, w, 3}, {w * 12, 12, 4}, base);
+    d["rgb"] = view_of(oc.rgb.data()->data(), {h, w, 3}, {w * 3, 3, 1}, base);
+    d["true_depth"] = view_of(oc.true_depth.data(), {h, w}, {w * 4, 4}, base);
+    for (const auto& [key, image] : {std::pair{"left_image", &oc.left_image}, std::pair{"right_image", &oc.right_image}})
+      d[key] = image->empty() ? py::object(py::none())
+                              : py::object(view_of(image->data(), {h, w, 3}, {w * 3, 3, 1}, base));
+    d["baseline"] = oc.baseline;
+    out.append(d);
+  }
+  return out;
+}
+
+// A registered estimator on a cloud: `spec` is its scene entry as YAML (type and keys).
+py::dict estimate(const std::string& spec, const Eigen::Matrix<double, Eigen::Dynamic, 3>& points) {
+  nlohmann::ordered_json params;
+  const ConfigNode node = ConfigNode::load_string(spec, "estimator");
+  const EstimatorBinding bound = estimator_registry().create(node, params);
+  node.report_unused();  // a misspelt keyword fails, as in a scene
+  if (bound.input != "cloud")
+    throw InputError("estimator: estimate() measures a cloud; this estimator's input is " + bound.input +
+                     " (run it through a scene's protocol)");
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    if (!points.row(i).allFinite())
+      throw InputError("points: row " + std::to_string(i) + " is not finite (N x 3, metres)");
+  EstimatorInput in;
+  in.points = points;
+  Estimate e;
+  {
+    py::gil_scoped_release free;
+    e = bound.run(in);
+  }
+  py::dict values;
+  for (const auto& [q, v] : e.values) values[quantity_name(q)] = v;
+  py::dict named;
+  for (const auto& [name, p] : e.points) named[name.c_str()] = vector_of(3, [&](std::size_t j) { return p[static_cast<int>(j)]; });
+  py::dict d;
+  d["values"] = values;
+  d["points"] = named;
+  d["watertight"] = e.watertight;
+  d["error"] = e.error;
+  d["notes"] = e.notes;
+  d["params_json"] = params.dump();
+  return d;
+}
+
+void run(const SceneSet& set, const std::string& out, int threads, bool quiet) {
+  RunOptions o;
+  o.out = std::filesystem::path(out) / set.base.name;
+  o.threads = threads;
+  o.verbosity = quiet ? Verbosity::quiet : Verbosity::normal;
+  RunOutcome r;
+  {
+    py::gil_scoped_release free;
+    r = run_scene_set(set, o);
+  }
+  if (!r.complete) throw std::runtime_error("run: not every case finished in " + o.out.string());
+}
+
+nlohmann::ordered_json key_json(const KeyInfo& k) {
+  return {{"key", k.key}, {"unit", k.unit}, {"range", k.range}, {"default", k.default_value}, {"doc", k.doc},
+          {"when", k.when}, {"required", k.default_value == "(required)"}};
+}
+
+// Every entry of a registry: type, summary, its key table and its typed defaults.
+template <class Product>
+nlohmann::ordered_json entries_json(const Registry<Product>& r) {
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (const auto& e : r.entries()) {
+    nlohmann::ordered_json keys = nlohmann::ordered_json::array();
+    for (const KeyInfo& k : e.keys()) keys.push_back(key_json(k));
+    a.push_back({{"type", e.type}, {"summary", e.summary}, {"keys", keys}, {"defaults", e.defaults()}});
+  }
+  return a;
+}
+
+// The key tables behind the package's docstrings and type stubs (python/grapebench/_registry.py).
+std::string registries_json() {
+  nlohmann::ordered_json j;
+  j["estimator"] = entries_json(estimator_registry());
+  j["sensor"] = entries_json(sensor_registry());
+  j["rig"] = entries_json(rig_registry());
+  j["registration"] = entries_json(registration_registry());
+  j["filter"] = entries_json(filter_registry());
+  j["protocol"] = entries_json(protocol_registry());
+  // A protocol's keys are the pipeline's that apply to it (`when` names it, or none).
+  for (auto& p : j["protocol"]) {
+    const std::string type = p["type"].get<std::string>();
+    static const PipelineSpec defaults;
+    for (const KeyInfo& k : pipeline_param_table().keys(defaults)) {
+      if (k.when.empty() || k.when.find(type) != std::string::npos) p["keys"].push_back(key_json(k));
+    }
+  }
+  return j.dump();
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_grapebench, m) {
+  m.doc() = "grapebench's C++ core (use the `grapebench` package)";
+  // Bad input (a scene key out of range, a malformed cloud): a ValueError naming the
+  // file, line and key, as the command line's exit code 2.
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+
+  py::class_<SceneSet>(m, "SceneSet")
+      .def_property_readonly("name", [](const SceneSet& s) { return s.base.name; })
+      .def_property_readonly("path", [](const SceneSet& s) { return s.base.path; })
+      .def_property_readonly("seed", [](const SceneSet& s) { return s.base.seed; })
+      .def_property_readonly("protocol", [](const SceneSet& s) { return s.base.protocol; })
+      .def_property_readonly("conditions",
+                             [](const SceneSet& s) {
+                               std::vector<std::string> labels;
+                               for (const Condition& c : s.conditions) labels.push_back(c.label);
+                               return labels;
+                             })
+      .def_property_readonly("bunch_count", [](const SceneSet& s) { return bunch_jobs(s.base).size(); })
+      .def("scene_json", [](const SceneSet& s) { return scene_json(s.base).dump(); });
+
+  m.def("parse_scene_set", &parse_scene_set, py::arg("text"), py::arg("name"));
+  m.def("load_scene_set", &load_scene_set, py::arg("path"));
+  m.def("synth_bunch", &synth_bunch, py::arg("scene"), py::arg("index"));
+  m.def("scan_bunch", &scan_of, py::arg("scene"), py::arg("index"));
+  m.def("registries_json", &registries_json);
+  m.def("estimator_types", [] { return estimator_registry().types(); });
+  m.def("estimate", &estimate, py::arg("spec"), py::arg("points"));
+  m.def("run", &run, py::arg("scene"), py::arg("out"), py::arg("threads"), py::arg("quiet"));
+}

@@ -1,0 +1,149 @@
+"""`import grapebench` (python/): every public function against the command line's
+answer for the same input, and its errors. Run by ctest (Python.Package) with
+PYTHONPATH=<build>/python and GRAPEBENCH=<the grapebench executable>."""
+import json
+import math
+import re
+import os
+import subprocess
+import threading
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import grapebench as gb
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
+EXE = os.environ.get("GRAPEBENCH", str(ROOT / "build" / "bench" / "grapebench"))
+TWO = ROOT / "tests" / "bench" / "data" / "two_bunches_hull.yaml"
+
+
+def fibonacci_sphere(n, r):
+    i = np.arange(n) + 0.5
+    z = 1 - 2 * i / n
+    phi = math.pi * (3 - math.sqrt(5)) * i
+    s = np.sqrt(1 - z * z)
+    return r * np.column_stack([s * np.cos(phi), s * np.sin(phi), z])
+
+
+def test_scene_from_file_text_and_dict_are_the_same_scene():
+    a = gb.Scene.from_file(TWO)
+    b = gb.Scene(TWO.read_text(), "two.yaml")
+    doc = {"name": "two_bunches_hull", "seed": 11, "bunches": [{"preset": "table-red", "count": 2}],
+           "sensor": {"type": "ideal", "width": 160, "height": 120},
+           "rig": {"type": "turntable", "views": 4, "step_deg": 90, "distance": 0.6},
+           "pipeline": {"registration": "true_poses"}, "estimators": [{"type": "convex_hull", "name": "CH"}]}
+    c = gb.Scene(doc)
+    assert (a.name, a.seed, a.protocol, a.bunch_count) == ("two_bunches_hull", 11, "multi_view", 2)
+    assert a.to_dict() == b.to_dict() == c.to_dict()
+    assert "Scene('two_bunches_hull'" in repr(a)
+
+
+def test_a_bad_scene_names_file_line_key_and_range():
+    with pytest.raises(gb.InputError) as e:
+        gb.Scene("name: x\nseed: 1\nbunches:\n  - preset: table-red\n    count: 0\n", "bad.yaml")
+    msg = str(e.value)
+    assert "bad.yaml:5" in msg and "count" in msg, msg
+    with pytest.raises(gb.InputError, match="frobnicate"):
+        gb.Scene("name: x\nseed: 1\nbunches:\n  - preset: table-red\nfrobnicate: 1\n")
+    with pytest.raises(ValueError):  # InputError is a ValueError
+        gb.Scene.from_file(ROOT / "no_such_scene.yaml")
+
+
+def test_synth_gives_the_bunch_and_truth_of_grapebench_synth(tmp_path):
+    scene = gb.Scene.from_file(TWO)
+    b = gb.synth(scene, 1)
+    n = b["berry_centres"].shape[0]
+    assert b["berry_centres"].shape == (n, 3) and b["berry_radii"].shape == (n,) and n > 10
+    assert b["stem_starts"].shape == b["stem_ends"].shape and len(b["stem_parts"]) == b["stem_radii"].shape[0]
+    assert {"peduncle", "rachis", "pedicel"} <= set(b["stem_parts"])
+    # The command line's truth file for the same scene and bunch is the same document.
+    subprocess.run([EXE, "-q", "synth", str(TWO), "--out", str(tmp_path), "--no-mesh"], check=True)
+    files = sorted(tmp_path.glob("bunch_*.json"))
+    assert len(files) == 2, files
+    assert json.loads(files[1].read_text()) == b["truth"]
+    assert b["truth"]["berry_count"] == n
+    assert np.allclose(b["cutting_point"], b["truth"]["cutting_point_m"], rtol=0, atol=0)
+    with pytest.raises(gb.InputError, match=r"out of range \[0, 1\]"):
+        gb.synth(scene, 2)
+
+
+def test_estimate_convex_hull_of_a_sphere():
+    assert "convex_hull" in gb.estimators()
+    r = 0.05
+    e = gb.estimate("convex_hull", fibonacci_sphere(20000, r))
+    assert e["error"] == ""
+    assert e["values"]["volume"] == pytest.approx(4 / 3 * math.pi * r ** 3, rel=2e-3)
+    assert e["params"]["type"] == "convex_hull"
+
+
+def test_estimate_rejects_bad_points_and_keys():
+    with pytest.raises(gb.InputError, match="N x 3"):
+        gb.estimate("convex_hull", np.zeros((5, 2)))
+    pts = fibonacci_sphere(100, 0.05)
+    pts[7, 1] = np.nan
+    with pytest.raises(gb.InputError, match="row 7"):
+        gb.estimate("convex_hull", pts)
+    with pytest.raises(gb.InputError, match="no_such_key"):
+        gb.estimate("convex_hull", fibonacci_sphere(100, 0.05), no_such_key=1)
+    with pytest.raises(gb.InputError, match="type"):
+        gb.estimate("no_such_estimator", fibonacci_sphere(100, 0.05))
+
+
+def test_run_returns_the_command_lines_results(tmp_path):
+    results, summary = gb.run(TWO, out=tmp_path / "py", threads=2)
+    subprocess.run([EXE, "-q", "run", str(TWO), "--out", str(tmp_path / "cli")], check=True)
+    cli = pd.read_csv(tmp_path / "cli" / "two_bunches_hull" / "results.csv")
+    assert len(results) == len(cli) > 0
+    cols = ["bunch", "estimator", "quantity", "estimate", "truth"]
+    pd.testing.assert_frame_equal(results[cols], cli[cols])
+    assert summary["scene"] == "two_bunches_hull" and summary["cases"] == 2, summary["scene"]
+
+
+def test_the_interpreter_runs_while_an_estimator_does():
+    # The GIL is released inside the C++ call: a Python thread keeps counting meanwhile.
+    count = 0
+    done = threading.Event()
+
+    def work():
+        gb.estimate("convex_hull", fibonacci_sphere(400000, 0.05))
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    while not done.is_set():
+        count += 1
+    t.join()
+    assert count > 1000, count
+
+
+def test_scan_hands_out_each_views_arrays_without_copies(tmp_path):
+    views = gb.scan(gb.Scene.from_file(TWO), 0)
+    assert [v["name"] for v in views] == ["view_00", "view_01", "view_02", "view_03"]
+    v = views[1]
+    h, w = v["intrinsics"]["height"], v["intrinsics"]["width"]
+    assert (h, w) == (120, 160) and v["pose"].shape == (4, 4)
+    assert v["xyz"].shape == v["normal"].shape == v["rgb"].shape == (h, w, 3)
+    assert v["xyz"].dtype == np.float32 and v["berry"].dtype == np.int32 and v["label"].shape == (h, w)
+    # No copies: the big arrays are views of the one scan object their base holds.
+    for key in ("xyz", "normal", "rgb", "berry", "true_depth"):
+        assert not v[key].flags.owndata and v[key].base is v["xyz"].base is not None, key
+    valid = v["valid"] == 1
+    assert 100 < valid.sum() < h * w
+    assert np.isfinite(v["xyz"][valid]).all() and np.isnan(v["xyz"][~valid]).all()
+    assert np.allclose(np.linalg.norm(v["normal"][valid], axis=1), 1, atol=1e-5)
+    assert v["left_image"] is None  # a depth sensor
+    # The points `grapebench scan` writes for that view (its PLY: valid points, sensor frame).
+    subprocess.run([EXE, "-q", "scan", str(TWO), "--bunch", "0", "--out", str(tmp_path)], check=True)
+    ply = sorted(tmp_path.rglob("*view_01*.ply"))
+    assert ply, sorted(p.name for p in tmp_path.rglob("*"))
+    data = ply[0].read_bytes()
+    header, body = data.split(b"end_header\n", 1)
+    assert int(re.search(rb"element vertex (\d+)", header).group(1)) == valid.sum()
+    # The arrays outlive the list they came in (their base keeps the scan alive).
+    xyz = views[0]["xyz"]
+    del views, v
+    assert np.isfinite(xyz[~np.isnan(xyz[..., 0])]).all()
