@@ -8,12 +8,18 @@
 #include "algorithms/python_estimator.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <new>
+#include <optional>
+#include <thread>
 #include <utility>
 
 #include "synth/config.h"
+#include "synth/run_stop.h"
 
 namespace grapebench {
 
@@ -59,6 +65,15 @@ ExternalParams answer_rules(const PythonParams& p) {
 
 namespace py = pybind11;
 
+// Initialized and not finalizing (Python 3.13 made _Py_IsFinalizing public as Py_IsFinalizing).
+bool interpreter_running() {
+#if PY_VERSION_HEX >= 0x030D0000
+  return Py_IsInitialized() && !Py_IsFinalizing();
+#else
+  return Py_IsInitialized() && !_Py_IsFinalizing();
+#endif
+}
+
 // A strong reference (a plain PyObject*: pybind11's types have hidden visibility).
 class PythonFunction {
  public:
@@ -66,7 +81,7 @@ class PythonFunction {
   // Released under the GIL; left to the process's end once the interpreter is
   // finalizing (a scene collected at Python's exit).
   ~PythonFunction() {
-    if (Py_IsInitialized() && !_Py_IsFinalizing()) {
+    if (interpreter_running()) {
       py::gil_scoped_acquire gil;
       Py_DECREF(f_);
     }
@@ -87,12 +102,20 @@ void ensure_interpreter() {
   static std::once_flag once;
   std::call_once(once, [] {
     if (Py_IsInitialized()) return;
-    py::initialize_interpreter(false);  // no Python signal handlers: Ctrl-C stays the harness's
+    // No Python signal handlers (Ctrl-C stays the harness's), no '' (the working
+    // folder) on sys.path: a module comes from its entry's `path` or the system.
+    py::initialize_interpreter(false, 0, nullptr, false);
     if (const char* venv = std::getenv("VIRTUAL_ENV"); venv && *venv) {
-      // An active venv's packages, as its own python would see them.
+      // An active venv's packages first, as its own python would see them.
       py::exec(
-          "import site, sys\n"
-          "site.addsitedir(f'{venv}/lib/python{sys.version_info[0]}.{sys.version_info[1]}/site-packages')\n",
+          "import os, site, sys\n"
+          "d = f'{venv}/lib/python{sys.version_info[0]}.{sys.version_info[1]}/site-packages'\n"
+          "if os.path.isdir(d):\n"
+          "    site.addsitedir(d)\n"
+          "    sys.path.remove(d)\n"
+          "    sys.path.insert(0, d)\n"
+          "else:\n"
+          "    sys.stderr.write(f'grapebench: VIRTUAL_ENV {venv} has no {d}: its packages are not seen\\n')\n",
           py::globals(), py::dict(py::arg("venv") = venv));
     }
     PyEval_SaveThread();
@@ -129,12 +152,14 @@ void flush_output() {
 // A block returns here when its array dies, whenever that is.
 class BlockPool {
  public:
-  void* take(std::size_t bytes) {
+  // A block of at least `bytes`; `bytes` becomes its real size.
+  void* take(std::size_t& bytes) {
     {
       const std::lock_guard<std::mutex> lock(m_);
       for (auto it = free_.begin(); it != free_.end(); ++it) {
         if (it->second >= bytes && it->second <= 2 * bytes + 4096) {
           void* p = it->first;
+          bytes = it->second;
           kept_ -= it->second;
           free_.erase(it);
           return p;
@@ -175,8 +200,9 @@ py::array_t<T> pooled(std::vector<py::ssize_t> shape) {
     void* p;
     std::size_t bytes;
   };
-  const std::size_t bytes = std::max<std::size_t>(n * sizeof(T), 1);
-  auto* b = new Block{block_pool().take(bytes), bytes};
+  std::size_t bytes = std::max<std::size_t>(n * sizeof(T), 1);
+  void* p = block_pool().take(bytes);
+  auto* b = new Block{p, bytes};
   const py::capsule owner(b, [](void* x) {
     auto* blk = static_cast<Block*>(x);
     block_pool().give(blk->p, blk->bytes);
@@ -195,6 +221,8 @@ py::array_t<double> rows_of(const PointCloud& c) {
 
 py::object image_of(const RgbImage& im) {
   if (im.data.empty()) return py::none();
+  if (im.data.size() != static_cast<std::size_t>(im.width) * static_cast<std::size_t>(im.height) * 3)
+    throw std::logic_error("python estimator: an image's data is not width x height x 3 bytes");
   py::array_t<std::uint8_t> a = pooled<std::uint8_t>({im.height, im.width, 3});
   std::copy(im.data.begin(), im.data.end(), a.mutable_data());
   return a;
@@ -318,6 +346,82 @@ nlohmann::json answer_json(const py::handle& h, const ExternalParams& rules, int
                    ", not a JSON value (dict, list, str, number, bool, None or a numpy array)");
 }
 
+// The run's time budget for Python code, which never polls the stop flag: a thread of
+// the process looks every 20 ms at the calls in progress and, when a call's run has
+// been told to stop, raises TimeoutError in its thread (PyThreadState_SetAsyncExc; it
+// fires at the function's next bytecode, not inside a long C call). A call registers
+// and leaves while holding the GIL, and the watcher raises only while holding it, so
+// the exception never reaches a thread that has left its call.
+class Stopper {
+ public:
+  static Stopper& instance() {
+    static Stopper* s = new Stopper;  // its thread outlives static destruction
+    return *s;
+  }
+  struct Call {
+    unsigned long ident;
+    const std::atomic<bool>* stop;
+    bool raised = false;
+  };
+  void enter(Call* c) {
+    const std::lock_guard<std::mutex> lock(m_);
+    calls_.push_back(c);
+    if (!started_) {
+      started_ = true;
+      std::thread([this] { watch(); }).detach();
+    }
+  }
+  void leave(Call* c) {
+    const std::lock_guard<std::mutex> lock(m_);
+    calls_.erase(std::find(calls_.begin(), calls_.end(), c));
+  }
+
+ private:
+  bool any_due() {
+    const std::lock_guard<std::mutex> lock(m_);
+    for (const Call* c : calls_)
+      if (!c->raised && c->stop->load(std::memory_order_relaxed)) return true;
+    return false;
+  }
+  void watch() {
+    for (;;) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      if (!any_due() || !interpreter_running()) continue;
+      py::gil_scoped_acquire gil;
+      const std::lock_guard<std::mutex> lock(m_);
+      for (Call* c : calls_) {
+        if (c->raised || !c->stop->load(std::memory_order_relaxed)) continue;
+        PyThreadState_SetAsyncExc(c->ident, PyExc_TimeoutError);
+        c->raised = true;
+      }
+    }
+  }
+  std::mutex m_;
+  std::vector<Call*> calls_;
+  bool started_ = false;
+};
+
+// Registers this thread's call (GIL held) when its run has a stop flag.
+class StopWatch {
+ public:
+  StopWatch() {
+    if (!tls_run_stop) return;
+    call_ = Stopper::Call{PyThread_get_thread_ident(), tls_run_stop};
+    Stopper::instance().enter(&*call_);
+  }
+  ~StopWatch() {
+    if (!call_) return;
+    Stopper::instance().leave(&*call_);
+    if (call_->raised) PyThreadState_SetAsyncExc(call_->ident, nullptr);  // not fired yet: cleared
+  }
+  StopWatch(const StopWatch&) = delete;
+  StopWatch& operator=(const StopWatch&) = delete;
+  bool stopped() const { return call_ && call_->stop->load(); }
+
+ private:
+  std::optional<Stopper::Call> call_;
+};
+
 }  // namespace
 
 bool python_available() { return true; }
@@ -326,11 +430,38 @@ std::shared_ptr<PythonFunction> load_python_function(const PythonParams& p) {
   ensure_interpreter();
   py::gil_scoped_acquire gil;
   try {
+    // What the harness itself imports, before a scene folder can shadow it (a json.py).
+    py::module_::import("json");
+    py::module_::import("traceback");
     py::list sys_path = py::module_::import("sys").attr("path");
     for (auto it = p.path.rbegin(); it != p.path.rend(); ++it) {
       if (!sys_path.contains(*it)) sys_path.insert(0, *it);
     }
     const py::module_ m = py::module_::import(p.module.c_str());
+    // Python keeps one module per name: a second scene folder's my_estimator.py would
+    // silently run the first one's. Where the entry's path holds the module, it must be
+    // the one imported.
+    std::string relative = p.module;
+    std::replace(relative.begin(), relative.end(), '.', '/');
+    for (const std::string& folder : p.path) {
+      std::filesystem::path want;
+      for (const auto& c : {std::filesystem::path(folder) / (relative + ".py"),
+                            std::filesystem::path(folder) / relative / "__init__.py"}) {
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(c, ec)) want = std::filesystem::weakly_canonical(c, ec);
+        if (!want.empty()) break;
+      }
+      if (want.empty()) continue;
+      const py::object file = py::getattr(m, "__file__", py::none());
+      std::error_code ec;
+      const std::filesystem::path got =
+          file.is_none() ? std::filesystem::path() : std::filesystem::weakly_canonical(file.cast<std::string>(), ec);
+      if (got != want)
+        throw InputError("python estimator: module '" + p.module + "' is already imported from " +
+                         (got.empty() ? std::string("(no file)") : got.string()) + ", not " + want.string() +
+                         " (one module per name in a process: rename one of them)");
+      break;
+    }
     if (!py::hasattr(m, p.function.c_str()))
       throw InputError("python estimator: module '" + p.module + "' (" +
                        py::str(m.attr("__file__")).cast<std::string>() + ") has no '" + p.function + "'");
@@ -350,12 +481,22 @@ Estimate python_estimate(const EstimatorInput& input, const PythonParams& p) {
   nlohmann::json answer;
   {
     py::gil_scoped_acquire gil;
+    StopWatch watch;  // the run's time budget raises TimeoutError in the function
     try {
       const py::object a = p.callable->get()(request_of(input, p));
       answer = answer_json(a, rules);
       flush_output();
     } catch (py::error_already_set& e) {
+      if (watch.stopped()) throw StopRequested();
       throw InputError(rules.who + ": raised " + traceback_tail(e));
+    } catch (const py::cast_error& e) {  // an int past a double, text that is not UTF-8
+      throw InputError(rules.who + ": the answer holds a value JSON cannot carry: " + e.what());
+    } catch (...) {
+      // Past a budget operator new fails (bench/heap_meter.h), so pybind11 cannot even
+      // wrap the TimeoutError: a bad_alloc comes instead. The Python error is dropped;
+      // the row says which budget it passed.
+      PyErr_Clear();
+      throw;
     }
   }
   const int width = input.stereo ? input.stereo->left.width : 0, height = input.stereo ? input.stereo->left.height : 0;

@@ -2,6 +2,7 @@
 
 #include "synth/run_stop.h"
 
+#include <dlfcn.h>
 #include <malloc.h>
 
 #include <algorithm>
@@ -120,7 +121,30 @@ class ArenaCounterObserver : public tbb::task_scheduler_observer {
 }  // namespace
 
 #ifdef GRAPEBENCH_HEAP_METER
-bool heap_meter_available() { return true; }
+// Compiled in, and in force: the process's malloc is the one below. Not so in Python's
+// extension module (python/), which Python loads with RTLD_LOCAL, so the process keeps
+// glibc's malloc and nothing would be counted: measured once, by a megabyte taken
+// through the process's own malloc under a counter.
+bool heap_meter_available() {
+  static const bool in_force = [] {
+    using Malloc = void* (*)(std::size_t);
+    using Free = void (*)(void*);
+    const auto process_malloc = reinterpret_cast<Malloc>(dlsym(RTLD_DEFAULT, "malloc"));
+    const auto process_free = reinterpret_cast<Free>(dlsym(RTLD_DEFAULT, "free"));
+    if (!process_malloc || !process_free) return false;
+    HeapCounter* const counter = take_counter();
+    const ThreadRun saved = tls_run;
+    tls_run = ThreadRun{counter, counter->generation.load()};
+    constexpr std::size_t kProbe = std::size_t{1} << 20;
+    void* p = process_malloc(kProbe);
+    const bool counted = counter->peak.load() >= static_cast<std::int64_t>(kProbe);
+    process_free(p);
+    tls_run = saved;
+    release_counter(counter);
+    return counted;
+  }();
+  return in_force;
+}
 #else
 bool heap_meter_available() { return false; }
 #endif

@@ -7,16 +7,24 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <filesystem>
 #include <limits>
-#include <optional>
 #include <functional>
+#include <optional>
 
 #include "algorithms/registry.h"
 #include "bench/protocols/capture.h"
 #include "bench/protocols/registration_methods.h"
 #include "bench/protocols/registry.h"
 #include "bench/runner.h"
+#include "bench/scoring/classes.h"
+#include "bench/scoring/coco_eval.h"
+#include "bench/scoring/detections.h"
+#include "bench/scoring/images.h"
+#include "bench/scoring/points.h"
+#include "bench/scoring/scalars.h"
+#include "bench/scoring/statistics.h"
 #include "bench/scene.h"
 #include "bench/scene_file.h"
 #include "synth/config.h"
@@ -230,6 +238,176 @@ std::string registries_json() {
   return j.dump();
 }
 
+nlohmann::json parse_json(const std::string& text, const std::string& what) {
+  try {
+    return parse_json_bounded(text);
+  } catch (const std::exception& e) {
+    throw InputError(what + ": not JSON: " + e.what());
+  }
+}
+
+// Scoring functions (bench/scoring/): the harness's own, on numpy input; results as dicts.
+py::dict score_dict(const Score& s) {
+  return py::dict(py::arg("cases") = s.cases, py::arg("succeeded") = s.succeeded,
+                  py::arg("success_rate") = s.success_rate, py::arg("r2") = s.r2,
+                  py::arg("r2_identity") = s.r2_identity, py::arg("rmse") = s.rmse, py::arg("mae") = s.mae,
+                  py::arg("bias") = s.bias, py::arg("mape") = s.mape, py::arg("slope") = s.slope,
+                  py::arg("intercept") = s.intercept);
+}
+
+py::dict interval(const Interval& i) { return py::dict(py::arg("lo") = i.lo, py::arg("hi") = i.hi); }
+
+// `who`'s two inputs must have one value per case.
+void same_length(std::size_t a, std::size_t b, const char* who) {
+  if (a != b)
+    throw InputError(std::string(who) + ": estimate has " + std::to_string(a) + " values and truth " +
+                     std::to_string(b) + " (one per case each)");
+}
+
+void bind_scoring(py::module_& m) {
+  m.def("score_scalars", [](const std::vector<double>& estimate, const std::vector<double>& truth) {
+    same_length(estimate.size(), truth.size(), "scalars");
+    std::vector<double> e, t;  // the successful rows: a finite estimate
+    for (std::size_t i = 0; i < estimate.size(); ++i)
+      if (std::isfinite(estimate[i])) e.push_back(estimate[i]), t.push_back(truth[i]);
+    return score_dict(score(e, t, static_cast<int>(estimate.size()), {}));
+  });
+  m.def("bootstrap_scalars", [](const std::vector<double>& estimate, const std::vector<double>& truth,
+                                std::uint64_t seed, int resamples, double level) {
+    same_length(estimate.size(), truth.size(), "bootstrap");
+    check_range(resamples, 10, 1e6, "bootstrap", "resamples");
+    check_range(level, 0.5, 0.999, "bootstrap", "level");
+    const ScoreIntervals s = bootstrap_score_intervals(estimate, truth, seed, resamples, level);
+    return py::dict(py::arg("rmse") = interval(s.rmse), py::arg("bias") = interval(s.bias),
+                    py::arg("mape") = interval(s.mape), py::arg("r2") = interval(s.r2));
+  });
+  m.def("concordance", [](const std::vector<double>& estimate, const std::vector<double>& truth) {
+    same_length(estimate.size(), truth.size(), "concordance");
+    return concordance(estimate, truth);
+  });
+  m.def("bland_altman", [](const std::vector<double>& estimate, const std::vector<double>& truth) {
+    same_length(estimate.size(), truth.size(), "bland_altman");
+    const Agreement a = bland_altman(estimate, truth);
+    return py::dict(py::arg("mean_difference") = a.mean_difference, py::arg("lower") = a.lower,
+                    py::arg("upper") = a.upper);
+  });
+  m.def("compare_paired", [](const std::vector<double>& a, const std::vector<double>& b, std::uint64_t seed,
+                             int resamples, double level) {
+    same_length(a.size(), b.size(), "compare_paired");
+    check_range(resamples, 10, 1e6, "compare_paired", "resamples");
+    check_range(level, 0.5, 0.999, "compare_paired", "level");
+    const PairedComparison c = compare_paired(a, b, seed, resamples, level);
+    return py::dict(py::arg("cases") = c.cases, py::arg("mean_difference") = c.mean_difference,
+                    py::arg("interval") = interval(c.interval), py::arg("w_plus") = c.test.w_plus,
+                    py::arg("p") = c.test.p);
+  });
+  m.def("score_points", [](const Eigen::Matrix<double, Eigen::Dynamic, 3>& estimate,
+                           const Eigen::Matrix<double, Eigen::Dynamic, 3>& truth, double tolerance) {
+    same_length(static_cast<std::size_t>(estimate.rows()), static_cast<std::size_t>(truth.rows()), "points");
+    check_range(tolerance, 0, 1e3, "points", "tolerance", "m");
+    std::vector<Vec3> e, t;
+    for (Eigen::Index i = 0; i < estimate.rows(); ++i) e.emplace_back(estimate.row(i)), t.emplace_back(truth.row(i));
+    const PointScore s = score_points(e, t, tolerance);
+    return py::dict(py::arg("cases") = s.cases, py::arg("answered") = s.answered, py::arg("within") = s.within,
+                    py::arg("success_rate") = s.success_rate, py::arg("mean_error") = s.mean_error,
+                    py::arg("median_error") = s.median_error, py::arg("rmse") = s.rmse,
+                    py::arg("max_error") = s.max_error, py::arg("axis_bias") = s.axis_bias,
+                    py::arg("axis_rmse") = s.axis_rmse, py::arg("axis_mae") = s.axis_mae);
+  });
+  m.def("score_classes", [](const std::vector<int>& truth, const Eigen::MatrixXd& scores,
+                            const std::vector<std::string>& classes) {
+    if (static_cast<Eigen::Index>(truth.size()) != scores.rows() ||
+        scores.cols() != static_cast<Eigen::Index>(classes.size()))
+      throw InputError("classes: scores must be N x K (N = " + std::to_string(truth.size()) +
+                       " points, K = " + std::to_string(classes.size()) + " classes), got " +
+                       std::to_string(scores.rows()) + " x " + std::to_string(scores.cols()));
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      if (truth[i] < 0 || truth[i] >= static_cast<int>(classes.size()))
+        throw InputError("classes: truth[" + std::to_string(i) + "] = " + std::to_string(truth[i]) +
+                         " outside [0, " + std::to_string(classes.size() - 1) + "]");
+    if (!scores.allFinite()) throw InputError("classes: scores hold a non-finite value");
+    const ClassScores s = score_classes(truth, scores, classes);
+    py::list roc;
+    for (const RocCurve& c : s.roc)
+      roc.append(py::dict(py::arg("fpr") = c.fpr, py::arg("tpr") = c.tpr, py::arg("threshold") = c.threshold));
+    return py::dict(py::arg("classes") = s.classes, py::arg("confusion") = Eigen::MatrixXi(s.confusion),
+                    py::arg("points") = s.points, py::arg("precision") = s.precision, py::arg("recall") = s.recall,
+                    py::arg("iou") = s.iou, py::arg("accuracy") = s.accuracy, py::arg("miou") = s.miou,
+                    py::arg("auc") = s.auc, py::arg("roc") = roc);
+  });
+  m.def("score_detections", [](const Eigen::Matrix<double, Eigen::Dynamic, 4>& detections,
+                               const Eigen::Matrix<double, Eigen::Dynamic, 3>& truth, const std::vector<bool>& visible,
+                               const std::string& rule, double threshold) {
+    if (static_cast<Eigen::Index>(visible.size()) != truth.rows())
+      throw InputError("detections: visible needs one flag per truth object (" + std::to_string(truth.rows()) + ")");
+    if (!detections.allFinite() || !truth.allFinite()) throw InputError("detections: a non-finite value");
+    DetectionMatch match;
+    if (rule == "disc_iou") match.rule = DetectionMatch::Rule::DiscIou;
+    else if (rule == "centre_in_radius") match.rule = DetectionMatch::Rule::CentreInRadius;
+    else throw InputError("detections: rule '" + rule + "' is not one of disc_iou, centre_in_radius");
+    check_range(threshold, 0, 10, "detections", "threshold");
+    match.threshold = threshold;
+    std::vector<Detection> d;
+    for (Eigen::Index i = 0; i < detections.rows(); ++i) {
+      if (detections(i, 2) <= 0) throw InputError("detections: row " + std::to_string(i) + " has radius <= 0");
+      d.push_back({{detections(i, 0), detections(i, 1), detections(i, 2)}, detections(i, 3)});
+    }
+    std::vector<TruthObject> t;
+    for (Eigen::Index i = 0; i < truth.rows(); ++i) {
+      if (truth(i, 2) <= 0) throw InputError("truth: row " + std::to_string(i) + " has radius <= 0");
+      t.push_back({{truth(i, 0), truth(i, 1), truth(i, 2)}, visible[static_cast<std::size_t>(i)]});
+    }
+    const DetectionScore s = score_detections(d, t, match);
+    return py::dict(py::arg("detections") = s.detections, py::arg("matched") = s.matched,
+                    py::arg("false_positives") = s.false_positives, py::arg("visible") = s.visible,
+                    py::arg("visible_found") = s.visible_found, py::arg("precision") = s.precision,
+                    py::arg("recall") = s.recall, py::arg("f1") = s.f1,
+                    py::arg("centre_error_mean") = s.centre_error_mean,
+                    py::arg("radius_error_mean") = s.radius_error_mean,
+                    py::arg("radius_error_mae") = s.radius_error_mae, py::arg("match") = s.match);
+  });
+  m.def("coco_evaluate", [](const std::string& ground_truth_json, const std::string& results_json,
+                            const std::string& iou_type, const std::vector<int>& max_dets) {
+    CocoEvalParams p;
+    if (iou_type == "bbox") p.type = CocoIouType::Bbox;
+    else if (iou_type == "segm") p.type = CocoIouType::Segm;
+    else throw InputError("coco: iou_type '" + iou_type + "' is not one of bbox, segm");
+    if (max_dets.size() != 3) throw InputError("coco: max_dets needs three limits, as COCO's summary");
+    for (int d : max_dets) check_range(d, 1, 1e6, "coco", "max_dets");
+    p.max_dets = max_dets;
+    const CocoGroundTruth gt = read_coco_ground_truth(parse_json(ground_truth_json, "ground truth"), "ground truth");
+    const std::vector<CocoObject> dets =
+        read_coco_results(parse_json(results_json, "results"), "results", gt, p.type);
+    CocoEvalResult r;
+    {
+      py::gil_scoped_release free;
+      r = coco_evaluate(gt, dets, p);
+    }
+    py::dict stats, per;
+    for (std::size_t k = 0; k < r.stats.size(); ++k) stats[coco_stat_name(k, p.max_dets).c_str()] = r.stats[k];
+    for (const auto& [c, s] : r.per_category) {
+      py::dict d;
+      for (std::size_t k = 0; k < s.size(); ++k) d[coco_stat_name(k, p.max_dets).c_str()] = s[k];
+      per[c.name.c_str()] = d;
+    }
+    return py::dict(py::arg("stats") = stats, py::arg("per_category") = per);
+  });
+  m.def("ciede2000", [](const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2) { return ciede2000(lab1, lab2); });
+  m.def("srgb8_to_lab", [](int r, int g, int b) {
+    for (int v : {r, g, b}) check_range(v, 0, 255, "srgb8_to_lab", "channel");
+    return Eigen::Vector3d(srgb8_to_lab(static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g),
+                                        static_cast<std::uint8_t>(b)));
+  });
+  m.def("luminance_ssim", [](const py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>& a,
+                             const py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>& b) {
+    if (a.ndim() != 3 || a.shape(2) != 3 || b.ndim() != 3 || b.shape(0) != a.shape(0) || b.shape(1) != a.shape(1) ||
+        b.shape(2) != 3)
+      throw InputError("luminance_ssim: two H x W x 3 uint8 images of one size");
+    const std::vector<std::uint8_t> va(a.data(), a.data() + a.size()), vb(b.data(), b.data() + b.size());
+    return luminance_ssim(va, vb, static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)));
+  });
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_grapebench, m) {
@@ -257,6 +435,7 @@ PYBIND11_MODULE(_grapebench, m) {
   m.def("synth_bunch", &synth_bunch, py::arg("scene"), py::arg("index"));
   m.def("scan_bunch", &scan_of, py::arg("scene"), py::arg("index"));
   m.def("registries_json", &registries_json);
+  bind_scoring(m);
   m.def("estimator_types", [] { return estimator_registry().types(); });
   m.def("estimate", &estimate, py::arg("spec"), py::arg("points"));
   m.def("run", &run, py::arg("scene"), py::arg("out"), py::arg("threads"), py::arg("quiet"));

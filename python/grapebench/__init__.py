@@ -22,10 +22,10 @@ import numpy as np
 
 from . import _grapebench
 from ._grapebench import InputError
-from . import estimator, filter, protocol, registration, rig, sensor  # noqa: A004 (types, docs from key tables)
+from . import estimator, filter, protocol, registration, rig, scoring, sensor  # noqa: A004 (types, docs from key tables)
 
 __all__ = ["InputError", "Scene", "synth", "scan", "estimators", "estimate", "run", "estimator", "sensor", "rig",
-           "registration", "filter", "protocol"]
+           "registration", "filter", "protocol", "scoring"]
 
 
 class Scene:
@@ -125,6 +125,13 @@ def run(scene, out=None, threads=0, quiet=True):
 def _scene_set(scene):
     if isinstance(scene, Scene):
         return scene._set
-    if isinstance(scene, (str, os.PathLike)) and Path(scene).is_file():
+    if isinstance(scene, os.PathLike) or (isinstance(scene, str) and "\n" not in scene and _is_file(scene)):
         return Scene.from_file(scene)._set
     return Scene(scene)._set
+
+
+def _is_file(text):
+    try:
+        return Path(text).is_file()
+    except (OSError, ValueError):  # a name too long, or with a NUL: not a file
+        return False

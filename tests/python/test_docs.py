@@ -19,4 +19,4 @@ def test_python_md_runs(capsys):
     finally:
         os.chdir(cwd)
     out = capsys.readouterr().out
-    assert "Scene('two_bunches_hull'" in out and "count" in out
+    assert "Scene('two_bunches_hull'" in out and "mine.yaml:5" in out

@@ -105,19 +105,23 @@ def test_run_returns_the_command_lines_results(tmp_path):
 
 def test_the_interpreter_runs_while_an_estimator_does():
     # The GIL is released inside the C++ call: a Python thread keeps counting meanwhile.
+    points = fibonacci_sphere(400000, 0.05)  # made before: only the call is watched
+    started, done = threading.Event(), threading.Event()
     count = 0
-    done = threading.Event()
 
     def work():
-        gb.estimate("convex_hull", fibonacci_sphere(400000, 0.05))
+        started.set()
+        gb.estimate("convex_hull", points)
         done.set()
 
     t = threading.Thread(target=work)
     t.start()
+    started.wait()
     while not done.is_set():
         count += 1
     t.join()
-    assert count > 1000, count
+    # Holding the GIL, the call would leave this loop one turn (5 ms) at most.
+    assert count > 100000, count
 
 
 def test_scan_hands_out_each_views_arrays_without_copies(tmp_path):

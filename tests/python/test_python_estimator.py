@@ -89,15 +89,13 @@ def test_grapebench_run_in_python_gives_the_commands_results(cli_runs, tmp_path)
     ("{type: python}", "module"),
 ])
 def test_a_bad_entry_fails_when_the_scene_is_read(tmp_path, entry, message):
+    entry = entry.replace("}", ", path: [\"%s\"]}" % (HERE / "data")) if "module" in entry else entry
     text = SCENE.read_text().split("estimators:")[0] + "estimators:\n  - " + entry + "\n"
-    scene = HERE / "data" / "bad_in_process.yaml"  # beside test_estimators.py ({scene_dir})
+    scene = tmp_path / "bad_in_process.yaml"
     scene.write_text(text)
-    try:
-        p = subprocess.run([EXE, "-q", "run", str(scene), "--out", str(tmp_path)], capture_output=True, text=True)
-        with pytest.raises(gb.InputError, match=re.escape(message)):
-            gb.Scene.from_file(scene)
-    finally:
-        scene.unlink()
+    p = subprocess.run([EXE, "-q", "run", str(scene), "--out", str(tmp_path)], capture_output=True, text=True)
+    with pytest.raises(gb.InputError, match=re.escape(message)):
+        gb.Scene.from_file(scene)
     assert p.returncode == 2, p.stderr
     assert message in p.stderr and "bad_in_process.yaml:" in p.stderr, p.stderr
     assert not (tmp_path / "in_process").exists()
@@ -132,3 +130,22 @@ def test_arrays_the_function_keeps_stay_its_own(tmp_path):
             assert not np.shares_memory(a, b)
     # Each is the cloud of a different bunch (pooled memory is never handed out twice).
     assert len({round(float(a.sum()), 9) for a in kept}) == 3
+
+
+def test_a_second_module_of_the_same_name_is_refused(tmp_path):
+    gb.Scene.from_file(SCENE)  # imports tests/python/data/test_estimators.py
+    other = tmp_path / "test_estimators.py"
+    other.write_text("def principal_sizes(request):\n    return {'volume': 1e-6}\n")
+    text = SCENE.read_text().split("estimators:")[0] + \
+        "estimators:\n  - {type: python, module: test_estimators, function: principal_sizes}\n"
+    with pytest.raises(gb.InputError, match="already imported from .*tests/python/data/test_estimators.py"):
+        gb.Scene(text, str(tmp_path / "x.yaml"))
+
+
+def test_the_time_budget_stops_a_function_that_never_returns(tmp_path):
+    text = SCENE.read_text().split("estimators:")[0] + \
+        "estimators:\n  - {type: python, module: test_estimators, function: spins, time_budget: 1}\n"
+    results, _ = gb.run(gb.Scene(text.replace("name: in_process", "name: spins"), str(HERE / "data" / "x.yaml")),
+                        out=tmp_path, threads=2)
+    assert (results["ok"] == 0).all() and results["message"].str.contains("time budget").all(), \
+        results["message"].tolist()

@@ -34,7 +34,10 @@ def test_the_docstring_gives_unit_default_and_range():
     line = next(l for l in doc.splitlines() if l.strip().startswith(alpha["key"] + " :"))
     assert "float" in line and alpha["unit"] in line and "default " + alpha["default"] in line and alpha["range"] in line
     assert "gb.estimator" not in doc  # the scene's words, not Python's
-    assert "(required)" not in gb.estimator.python.defaults and "module" not in gb.estimator.python.defaults
+    # A required key has no default: absent from defaults, "required" in its docstring line.
+    assert "module" not in gb.estimator.python.defaults and "function" in gb.estimator.python.defaults
+    module_line = next(l for l in gb.estimator.python.__doc__.splitlines() if l.strip().startswith("module :"))
+    assert "required" in module_line and "default" not in module_line
 
 
 @pytest.mark.parametrize("kind", KINDS)

@@ -39,3 +39,10 @@ def keeps_the_cloud(request):
 
 
 keeps_the_cloud.kept = []
+
+
+def spins(request):
+    """Never returns on its own: the run's time budget must stop it."""
+    n = 0
+    while True:
+        n += 1
