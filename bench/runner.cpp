@@ -252,9 +252,12 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
     CaseResult r = run_case(set.conditions[static_cast<std::size_t>(ref.condition)], ref.condition, ref.job);
     // Written atomically as soon as it is done: an interrupted run resumes from here.
     write_file_atomic(ref.file, case_to_json(r).dump(1) + "\n");
-    progress.done("condition " + std::to_string(r.condition) + ", bunch " + std::to_string(r.bunch), !r.ok);
+    const std::string detail = "condition " + std::to_string(r.condition) + ", bunch " + std::to_string(r.bunch);
+    progress.done(detail, !r.ok);
+    const bool failed = !r.ok;
     results[i] = std::move(r);
-    ++computed;
+    const int done = ++computed;
+    if (o.on_case) o.on_case(done, static_cast<int>(pending.size()), detail, failed);
   };
   // Claimed, a case is looked for again: another run may have finished it since
   // (`waited`: we waited for the run that held it; even --no-resume takes its result).

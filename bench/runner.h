@@ -7,6 +7,7 @@
 #include "bench/scene.h"
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,10 @@ struct RunOptions {
   bool resume = true;         // reuse case files whose key matches
   bool reuse_other_builds = false;  // also reuse cases another build (build_identity()) computed
   Verbosity verbosity = Verbosity::normal;  // progress: a bar on a terminal, log lines otherwise
+  // Called, from the worker that finished it, after each case computed now: cases done
+  // so far, cases to compute, "condition c, bunch b", whether it failed (the Python
+  // package's progress line). Must be thread-safe.
+  std::function<void(int done, int total, const std::string& detail, bool failed)> on_case;
 };
 
 struct RunOutcome {

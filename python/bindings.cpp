@@ -31,6 +31,8 @@
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
 #include "synth/io.h"
+#include "synth/mesh.h"
+#include "synth/union_mesh.h"
 #include "sensors/rig.h"
 #include "sensors/sensor_registry.h"
 
@@ -64,16 +66,21 @@ const BunchJob& job_of(const SceneSet& set, const std::vector<BunchJob>& jobs, i
 
 // One bunch of the scene: its geometry as arrays and its ground-truth document (the
 // one `grapebench synth` writes) as JSON text.
-py::dict synth_bunch(const SceneSet& set, int index) {
+// With `mesh`, also its surface as `grapebench synth` writes it (the union of berries
+// and stems, synth/union_mesh.h): vertices (V x 3, m), faces (F x 3), per face its part
+// name index into mesh_parts and its berry (-1 for stems).
+py::dict synth_bunch(const SceneSet& set, int index, bool mesh) {
   const std::vector<BunchJob> jobs = bunch_jobs(set.base);
   const BunchJob& job = job_of(set, jobs, index);
   GenerationReport report;
   Bunch b;
   GroundTruth truth;
+  TriMesh surface;
   {
     py::gil_scoped_release free;  // other Python threads run while the bunch is made
     b = generate_bunch(job.params, job.seed, &report);
     truth = compute_ground_truth(b, job.params.density);
+    if (mesh) surface = bunch_surface(b);
   }
   const BunchRecord record{job.preset, job.seed, job.index, job.params, report};
   py::dict d;
@@ -90,6 +97,40 @@ py::dict synth_bunch(const SceneSet& set, int index) {
   d["stem_parts"] = parts;
   d["cutting_point"] = vector_of(3, [&](std::size_t j) { return b.cutting_point[static_cast<int>(j)]; });
   d["truth_json"] = ground_truth_json(b, truth, record).dump();
+  if (mesh) {
+    // The exported faces (internal ones dropped) and the vertices they use, renumbered
+    // in order of first use, as the PLY file has them.
+    const TriMesh& m = surface;
+    std::vector<std::size_t> kept;
+    std::vector<int> renumber(m.vertices.size(), -1);
+    std::vector<std::size_t> used;
+    for (std::size_t f = 0; f < m.faces.size(); ++f) {
+      if (m.face_internal[f]) continue;
+      kept.push_back(f);
+      for (int v : m.faces[f]) {
+        if (renumber[static_cast<std::size_t>(v)] < 0) {
+          renumber[static_cast<std::size_t>(v)] = static_cast<int>(used.size());
+          used.push_back(static_cast<std::size_t>(v));
+        }
+      }
+    }
+    py::dict md;
+    md["vertices"] = matrix(used.size(), 3, [&](std::size_t i, std::size_t j) { return m.vertices[used[i]][static_cast<int>(j)]; });
+    py::array_t<std::int32_t> faces(std::vector<py::ssize_t>{static_cast<py::ssize_t>(kept.size()), 3});
+    py::array_t<std::int32_t> berry(static_cast<py::ssize_t>(kept.size()));
+    py::list face_parts;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      const std::size_t f = kept[i];
+      for (int k = 0; k < 3; ++k)
+        faces.mutable_at(static_cast<py::ssize_t>(i), k) = renumber[static_cast<std::size_t>(m.faces[f][static_cast<std::size_t>(k)])];
+      berry.mutable_at(static_cast<py::ssize_t>(i)) = m.face_berry[f];
+      face_parts.append(part_name(m.face_part[f]));
+    }
+    md["faces"] = faces;
+    md["face_berry"] = berry;
+    md["face_part"] = face_parts;
+    d["mesh"] = md;
+  }
   return d;
 }
 
@@ -188,11 +229,28 @@ py::dict estimate(const std::string& spec, const Eigen::Matrix<double, Eigen::Dy
   return d;
 }
 
-void run(const SceneSet& set, const std::string& out, int threads, bool quiet) {
+// `progress`: None, or called as progress(done, total, detail, failed) after each case,
+// from the worker that finished it (the GIL taken for the call; what it raises is
+// reported as unraisable, the run goes on).
+void run(const SceneSet& set, const std::string& out, int threads, bool quiet, const py::object& progress) {
   RunOptions o;
   o.out = std::filesystem::path(out) / set.base.name;
   o.threads = threads;
   o.verbosity = quiet ? Verbosity::quiet : Verbosity::normal;
+  if (!progress.is_none()) {
+    auto callback = std::shared_ptr<py::object>(new py::object(progress), [](py::object* f) {
+      py::gil_scoped_acquire gil;
+      delete f;
+    });
+    o.on_case = [callback](int done, int total, const std::string& detail, bool failed) {
+      py::gil_scoped_acquire gil;
+      try {
+        (*callback)(done, total, detail, failed);
+      } catch (py::error_already_set& e) {
+        e.discard_as_unraisable("grapebench.run progress callback");
+      }
+    };
+  }
   RunOutcome r;
   {
     py::gil_scoped_release free;
@@ -432,11 +490,12 @@ PYBIND11_MODULE(_grapebench, m) {
 
   m.def("parse_scene_set", &parse_scene_set, py::arg("text"), py::arg("name"));
   m.def("load_scene_set", &load_scene_set, py::arg("path"));
-  m.def("synth_bunch", &synth_bunch, py::arg("scene"), py::arg("index"));
+  m.def("synth_bunch", &synth_bunch, py::arg("scene"), py::arg("index"), py::arg("mesh") = false);
   m.def("scan_bunch", &scan_of, py::arg("scene"), py::arg("index"));
   m.def("registries_json", &registries_json);
   bind_scoring(m);
   m.def("estimator_types", [] { return estimator_registry().types(); });
   m.def("estimate", &estimate, py::arg("spec"), py::arg("points"));
-  m.def("run", &run, py::arg("scene"), py::arg("out"), py::arg("threads"), py::arg("quiet"));
+  m.def("run", &run, py::arg("scene"), py::arg("out"), py::arg("threads"), py::arg("quiet"),
+        py::arg("progress") = py::none());
 }

@@ -64,12 +64,14 @@ class Scene:
                 f"{len(self.conditions)} conditions)")
 
 
-def synth(scene, index=0):
+def synth(scene, index=0, mesh=False):
     """Bunch `index` of the scene, exactly as `grapebench run` makes it: berry_centres
     (N x 3, m), berry_radii (N, m), stem_starts / stem_ends (M x 3, m), stem_radii (M, m),
     stem_parts (M names), cutting_point (3, m) and truth (the dict `grapebench synth`
-    writes: volume, sizes, berry count, ...)."""
-    d = _grapebench.synth_bunch(_scene_set(scene), index)
+    writes: volume, sizes, berry count, ...). mesh=True adds mesh: the surface `grapebench
+    synth` writes, vertices (V x 3, m), faces (F x 3), face_part (F names) and face_berry
+    (F, -1 for stems)."""
+    d = _grapebench.synth_bunch(_scene_set(scene), index, mesh)
     d["truth"] = json.loads(d.pop("truth_json"))
     return d
 
@@ -105,21 +107,47 @@ def estimate(type, points, **keys):
     return d
 
 
-def run(scene, out=None, threads=0, quiet=True):
+def run(scene, out=None, threads=0, quiet=True, progress=True):
     """Run a scene as `grapebench run` does; returns (results, summary): results.csv as a
     pandas DataFrame and summary.json as a dict. out: the results folder (a temporary
-    one, removed afterwards, when None); threads 0 uses every core."""
+    one, removed afterwards, when None); threads 0 uses every core. progress: True for a
+    line on stderr updated after each case (in notebooks too), False for none, or a
+    callable progress(done, total, detail, failed) called after each case."""
     import pandas as pd
 
     s = _scene_set(scene)
     if out is None:
         with tempfile.TemporaryDirectory(prefix="grapebench_") as tmp:
-            return run(scene, tmp, threads, quiet)
-    _grapebench.run(s, os.fspath(out), threads, quiet)
+            return run(scene, tmp, threads, quiet, progress)
+    callback = _ProgressLine(s.name) if progress is True else progress or None
+    _grapebench.run(s, os.fspath(out), threads, quiet, callback)
+    if isinstance(callback, _ProgressLine):
+        callback.finish()
     folder = Path(out) / s.name
     results = pd.read_csv(folder / "results.csv")
     summary = json.loads((folder / "summary.json").read_text())
     return results, summary
+
+
+class _ProgressLine:
+    """One line on stderr, rewritten after each case: "scene: 12/40 cases, 1 failed"."""
+
+    def __init__(self, name):
+        self.name, self.failed, self.shown = name, 0, False
+
+    def __call__(self, done, total, detail, failed):
+        import sys
+        self.failed += bool(failed)
+        tail = ", %d failed" % self.failed if self.failed else ""
+        sys.stderr.write("\r%s: %d/%d cases%s (last: %s)" % (self.name, done, total, tail, detail))
+        sys.stderr.flush()
+        self.shown = True
+
+    def finish(self):
+        import sys
+        if self.shown:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
 
 
 def _scene_set(scene):

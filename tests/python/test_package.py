@@ -6,6 +6,7 @@ import math
 import re
 import os
 import subprocess
+import sys
 import threading
 from pathlib import Path
 
@@ -151,3 +152,39 @@ def test_scan_hands_out_each_views_arrays_without_copies(tmp_path):
     xyz = views[0]["xyz"]
     del views, v
     assert np.isfinite(xyz[~np.isnan(xyz[..., 0])]).all()
+
+
+def test_run_reports_progress_after_each_case(tmp_path, capsys):
+    seen = []
+    gb.run(TWO, out=tmp_path / "a", threads=2, progress=lambda *a: seen.append(a))
+    assert sorted(s[0] for s in seen) == [1, 2] and {s[1] for s in seen} == {2}
+    assert all(s[2].startswith("condition 0, bunch ") and s[3] is False for s in seen)
+    gb.run(TWO, out=tmp_path / "b", threads=2)  # the default: a line on stderr
+    err = capsys.readouterr().err
+    assert "two_bunches_hull: 2/2 cases" in err and err.endswith("\n")
+
+    def broken(*a):
+        raise RuntimeError("a progress callback that fails")
+    reported = []
+    hook, sys.unraisablehook = sys.unraisablehook, reported.append
+    try:
+        results, _ = gb.run(TWO, out=tmp_path / "c", threads=2, progress=broken)  # the run goes on
+    finally:
+        sys.unraisablehook = hook
+    assert len(results) == 2
+    assert len(reported) == 2 and "fails" in str(reported[0].exc_value)
+
+
+def test_synth_mesh_is_the_surface_grapebench_synth_writes(tmp_path):
+    b = gb.synth(gb.Scene.from_file(TWO), 0, mesh=True)
+    m = b["mesh"]
+    assert m["vertices"].shape[1] == 3 and m["faces"].shape[1] == 3 and m["faces"].max() < len(m["vertices"])
+    assert len(m["face_part"]) == len(m["faces"]) == len(m["face_berry"]) and "berry" in set(m["face_part"])
+    # Its volume (signed tetrahedra) is the exact solid's, as the truth says it is.
+    v = m["vertices"][m["faces"]]
+    volume = np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6
+    assert volume * 1e6 == pytest.approx(b["truth"]["solid_volume_cm3"], rel=0.02)
+    subprocess.run([EXE, "-q", "synth", str(TWO), "--out", str(tmp_path)], check=True)
+    ply = sorted(tmp_path.glob("bunch_*.ply"))[0].read_bytes().split(b"end_header", 1)[0]
+    assert int(re.search(rb"element vertex (\d+)", ply).group(1)) == len(m["vertices"])
+    assert int(re.search(rb"element face (\d+)", ply).group(1)) == len(m["faces"])
