@@ -196,20 +196,104 @@ py::list scan_of(const SceneSet& set, int index) {
   return out;
 }
 
-// A registered estimator on a cloud: `spec` is its scene entry as YAML (type and keys).
-py::dict estimate(const std::string& spec, const Eigen::Matrix<double, Eigen::Dynamic, 3>& points) {
+using Cloud = Eigen::Matrix<double, Eigen::Dynamic, 3>;
+using Image = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>;
+
+// `key`: N x 3 finite rows (metres or unit vectors).
+PointCloud finite_rows(const py::handle& a, const std::string& key) {
+  const Cloud c = a.cast<Cloud>();
+  for (Eigen::Index i = 0; i < c.rows(); ++i)
+    if (!c.row(i).allFinite()) throw InputError(key + ": row " + std::to_string(i) + " is not finite (N x 3)");
+  return c;
+}
+
+RgbImage rgb_image(const py::handle& h, const std::string& key) {
+  const Image a = Image::ensure(h);
+  if (!a || a.ndim() != 3 || a.shape(2) != 3 || a.shape(0) < 1 || a.shape(1) < 1)
+    throw InputError(key + ": an H x W x 3 uint8 image (RGB, top row first)");
+  RgbImage im;
+  im.height = static_cast<int>(a.shape(0));
+  im.width = static_cast<int>(a.shape(1));
+  im.data.assign(a.data(), a.data() + a.size());
+  return im;
+}
+
+double camera_value(const py::dict& camera, const char* key, double lo, double hi) {
+  if (!camera.contains(key)) throw InputError(std::string("camera: needs '") + key + "'");
+  const double v = camera[key].cast<double>();
+  check_range(v, lo, hi, "camera", key);
+  return v;
+}
+
+// What the estimator gets, from the keyword arrays: points (N x 3, m), normals,
+// viewpoints (N x 3), colours (N x 3 uint8), classes (K names) and train_labels (N:
+// a class index, or -1 where to score), left / right (H x W x 3 uint8) with camera
+// {fx, fy, cx, cy (OpenCV's pixel centres), baseline (m, stereo pairs)}.
+EstimatorInput input_of(const std::string& kind, const py::dict& a) {
+  EstimatorInput in;
+  const auto has = [&](const char* k) { return a.contains(k) && !a[k].is_none(); };
+  if (has("points")) in.points = finite_rows(a["points"], "points");
+  const auto per_point = [&](const char* k, PointCloud& out) {
+    if (!has(k)) return;
+    out = finite_rows(a[k], k);
+    if (out.rows() != in.points.rows())
+      throw InputError(std::string(k) + ": one row per point (" + std::to_string(in.points.rows()) + ")");
+  };
+  per_point("normals", in.normals);
+  per_point("viewpoints", in.viewpoints);
+  if (has("colours")) {
+    const Image c = Image::ensure(a["colours"]);
+    if (!c || c.ndim() != 2 || c.shape(1) != 3 || c.shape(0) != in.points.rows())
+      throw InputError("colours: N x 3 uint8, one row per point (" + std::to_string(in.points.rows()) + ")");
+    for (py::ssize_t i = 0; i < c.shape(0); ++i) in.colours.push_back({c.at(i, 0), c.at(i, 1), c.at(i, 2)});
+  }
+  if (kind == "labelled_cloud") {
+    if (!has("classes") || !has("train_labels") || in.colours.empty())
+      throw InputError("a labelled_cloud estimator needs points, colours, classes and train_labels");
+    in.classes = a["classes"].cast<std::vector<std::string>>();
+    in.train_labels = a["train_labels"].cast<std::vector<int>>();
+    if (static_cast<Eigen::Index>(in.train_labels.size()) != in.points.rows())
+      throw InputError("train_labels: one per point (" + std::to_string(in.points.rows()) + ")");
+    for (std::size_t i = 0; i < in.train_labels.size(); ++i)
+      if (in.train_labels[i] < -1 || in.train_labels[i] >= static_cast<int>(in.classes.size()))
+        throw InputError("train_labels[" + std::to_string(i) + "]: a class index in [0, " +
+                         std::to_string(in.classes.size() - 1) + "], or -1 where to score");
+  }
+  if (kind == "stereo_pair" || kind == "image") {
+    if (!has("left") || !has("camera")) throw InputError("an " + kind + " estimator needs left and camera");
+    auto pair = std::make_shared<StereoPair>();
+    pair->left = rgb_image(a["left"], "left");
+    if (has("right")) {
+      pair->right = rgb_image(a["right"], "right");
+      if (pair->right.width != pair->left.width || pair->right.height != pair->left.height)
+        throw InputError("right: the left image's size");
+    } else if (kind == "stereo_pair") {
+      throw InputError("a stereo_pair estimator needs right too");
+    }
+    const py::dict camera = a["camera"].cast<py::dict>();
+    const double w = pair->left.width, h = pair->left.height;
+    pair->fx = camera_value(camera, "fx", 1, 1e6);
+    pair->fy = camera_value(camera, "fy", 1, 1e6);
+    pair->cx = camera_value(camera, "cx", -w, 2 * w);
+    pair->cy = camera_value(camera, "cy", -h, 2 * h);
+    pair->baseline = kind == "stereo_pair" ? camera_value(camera, "baseline", 1e-4, 10) : 0;
+    in.frame = InputFrame{-1, "", -1, pair->left.width, pair->left.height, pair->fx, pair->fy, pair->cx, pair->cy};
+    in.stereo = std::move(pair);
+  } else if (in.points.rows() == 0) {
+    throw InputError("points: an N x 3 array (metres)");
+  }
+  return in;
+}
+
+// A registered estimator on numpy input: `spec` is its scene entry as YAML (type and
+// keys); `inputs` as input_of reads them, for the estimator's input kind.
+py::dict estimate(const std::string& spec, const py::dict& inputs) {
   nlohmann::ordered_json params;
   const ConfigNode node = ConfigNode::load_string(spec, "estimator");
   const EstimatorBinding bound = estimator_registry().create(node, params);
   node.report_unused();  // a misspelt keyword fails, as in a scene
-  if (bound.input != "cloud")
-    throw InputError("estimator: estimate() measures a cloud; this estimator's input is " + bound.input +
-                     " (run it through a scene's protocol)");
-  for (Eigen::Index i = 0; i < points.rows(); ++i)
-    if (!points.row(i).allFinite())
-      throw InputError("points: row " + std::to_string(i) + " is not finite (N x 3, metres)");
-  EstimatorInput in;
-  in.points = points;
+  if (bound.input == "any") throw InputError("estimator: an external program's input is set by its `input` key");
+  const EstimatorInput in = input_of(bound.input, inputs);
   Estimate e;
   {
     py::gil_scoped_release free;
@@ -219,12 +303,32 @@ py::dict estimate(const std::string& spec, const Eigen::Matrix<double, Eigen::Dy
   for (const auto& [q, v] : e.values) values[quantity_name(q)] = v;
   py::dict named;
   for (const auto& [name, p] : e.points) named[name.c_str()] = vector_of(3, [&](std::size_t j) { return p[static_cast<int>(j)]; });
+  py::list detections;
+  for (const Detection& x : e.detections)
+    detections.append(py::dict(py::arg("x") = x.circle.x, py::arg("y") = x.circle.y, py::arg("r") = x.circle.r,
+                               py::arg("score") = x.score));
+  py::list instances;
+  for (const ImageDetection& x : e.instances) {
+    py::dict d(py::arg("category") = x.category, py::arg("score") = x.score,
+               py::arg("bbox") = std::vector<double>{x.x, x.y, x.w, x.h}, py::arg("volume") = x.volume);
+    if (!x.mask.empty()) {
+      py::array_t<std::uint8_t> m(std::vector<py::ssize_t>{x.mask_h, x.mask_w});
+      std::copy(x.mask.begin(), x.mask.end(), m.mutable_data());
+      d["mask"] = m;
+      d["mask_origin"] = std::vector<int>{x.mask_x, x.mask_y};
+    }
+    instances.append(d);
+  }
   py::dict d;
   d["values"] = values;
   d["points"] = named;
+  d["detections"] = detections;
+  d["instances"] = instances;
+  d["class_scores"] = Eigen::MatrixXd(e.class_scores);
   d["watertight"] = e.watertight;
   d["error"] = e.error;
   d["notes"] = e.notes;
+  d["input"] = bound.input;
   d["params_json"] = params.dump();
   return d;
 }
@@ -495,7 +599,7 @@ PYBIND11_MODULE(_grapebench, m) {
   m.def("registries_json", &registries_json);
   bind_scoring(m);
   m.def("estimator_types", [] { return estimator_registry().types(); });
-  m.def("estimate", &estimate, py::arg("spec"), py::arg("points"));
+  m.def("estimate", &estimate, py::arg("spec"), py::arg("inputs"));
   m.def("run", &run, py::arg("scene"), py::arg("out"), py::arg("threads"), py::arg("quiet"),
         py::arg("progress") = py::none());
 }

@@ -52,7 +52,9 @@ def stub(kind):
         out.append('    """%s"""' % doc.replace("\n", "\n    "))
         args = ", ".join(["*"] + arguments(entry))
         if kind == "estimator":
-            out.append("    def __call__(self, points: npt.ArrayLike, %s) -> dict[str, Any]: ..." % args)
+            extra = "" if "**keys" in args else ", **inputs: Any"  # left, camera, colours, ...
+            out.append("    def __call__(self, points: npt.ArrayLike | None = None, %s%s) -> dict[str, Any]: ..."
+                       % (args, extra))
         out.append("    def spec(self, %s) -> dict[str, Any]: ..." % args)
         out.append("")
         out.append("%s: _%s" % (t, t))

@@ -93,16 +93,39 @@ def estimators():
     return list(_grapebench.estimator_types())
 
 
-def estimate(type, points, **keys):
-    """Run a registered cloud estimator on points (N x 3, metres) with its keys, e.g.
-    estimate("alpha_shape", pts, alpha=0.01). Returns values ({quantity: SI value}),
-    points (named 3D points), notes, error ("" when it succeeded) and params (every key
-    in force)."""
-    pts = np.ascontiguousarray(points, dtype=np.float64)
-    if pts.ndim != 2 or pts.shape[1] != 3:
-        raise InputError(f"points: expected N x 3 (metres), got shape {pts.shape}")
+INPUTS = ("normals", "viewpoints", "colours", "classes", "train_labels", "left", "right", "camera")
+
+
+def estimate(type, points=None, **keys):
+    """Run a registered estimator on numpy input with its keys, e.g.
+    estimate("alpha_shape", pts, alpha=0.01). By the estimator's input kind:
+      cloud: points (N x 3, m), and normals / viewpoints (N x 3) where it uses them;
+      labelled_cloud: points, colours (N x 3 uint8), classes (K names), train_labels
+        (N: a class index, or -1 where to score);
+      image: left (H x W x 3 uint8, RGB) and camera {fx, fy, cx, cy} (px, OpenCV's pixel
+        centres), right too when it has one;
+      stereo_pair: left, right (rectified) and camera {fx, fy, cx, cy, baseline (m)}.
+    Returns values ({quantity: SI value}), points (named 3D points), detections,
+    instances, class_scores (N x K), notes, error ("" when it succeeded), input (its
+    kind) and params (every key in force)."""
+    inputs = {k: keys.pop(k) for k in INPUTS if k in keys}
+    if points is not None:
+        pts = np.ascontiguousarray(points, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 3:
+            raise InputError(f"points: expected N x 3 (metres), got shape {pts.shape}")
+        inputs["points"] = pts
+    for k in ("normals", "viewpoints"):
+        if k in inputs:
+            inputs[k] = np.ascontiguousarray(inputs[k], dtype=np.float64)
+    for k in ("colours", "left", "right"):
+        if k in inputs:
+            inputs[k] = np.ascontiguousarray(inputs[k], dtype=np.uint8)
+    if "train_labels" in inputs:
+        inputs["train_labels"] = [int(v) for v in np.asarray(inputs["train_labels"]).ravel()]
+    if "classes" in inputs:
+        inputs["classes"] = [str(c) for c in inputs["classes"]]
     spec = json.dumps({"type": type, **keys})
-    d = _grapebench.estimate(spec, pts)
+    d = _grapebench.estimate(spec, inputs)
     d["params"] = json.loads(d.pop("params_json"))
     return d
 

@@ -77,10 +77,11 @@ class Entry:
 
 
 class Estimator(Entry):
-    """A registered estimator: call it on a cloud (N x 3, metres) with its keys, as
-    grapebench.estimate(type, points, **keys)."""
+    """A registered estimator: call it on its input with its keys, as
+    grapebench.estimate(type, points, **keys) (images, stereo pairs and labelled clouds
+    by keyword: see grapebench.estimate)."""
 
-    def __call__(self, points, **keys):
+    def __call__(self, points=None, **keys):
         from . import estimate
         return estimate(self.type, points, **keys)
 

@@ -188,3 +188,29 @@ def test_synth_mesh_is_the_surface_grapebench_synth_writes(tmp_path):
     ply = sorted(tmp_path.glob("bunch_*.ply"))[0].read_bytes().split(b"end_header", 1)[0]
     assert int(re.search(rb"element vertex (\d+)", ply).group(1)) == len(m["vertices"])
     assert int(re.search(rb"element face (\d+)", ply).group(1)) == len(m["faces"])
+
+
+def test_image_stereo_and_labelled_estimators_run_on_numpy_input():
+    # A labelled cloud: two colour blobs, half of each labelled; the classifier scores all.
+    rng = np.random.default_rng(5)
+    pts = np.vstack([rng.normal(0, 0.01, (200, 3)), rng.normal(0.1, 0.01, (200, 3))])
+    colours = np.vstack([np.tile([40, 30, 80], (200, 1)), np.tile([60, 140, 40], (200, 1))]).astype(np.uint8)
+    labels = np.r_[np.where(np.arange(200) % 2 == 0, 0, -1), np.where(np.arange(200) % 2 == 0, 1, -1)]
+    e = gb.estimate("dey2012_classification", pts, colours=colours, classes=["berry", "leaf"], train_labels=labels)
+    assert e["input"] == "labelled_cloud" and e["class_scores"].shape == (400, 2), e["error"]
+    assert (e["class_scores"][:200].argmax(axis=1) == 0).mean() > 0.9
+    assert (e["class_scores"][200:].argmax(axis=1) == 1).mean() > 0.9
+    # An image estimator on a plain image: it answers (no bunch: no instances) and says so.
+    img = np.full((120, 160, 3), 90, np.uint8)
+    cam = {"fx": 200.0, "fy": 200.0, "cx": 79.5, "cy": 59.5}
+    e = gb.estimate("luo2016_instances", left=img, camera=cam, depth=1.0)  # no right image: its distance
+    assert e["input"] == "image" and isinstance(e["instances"], list)
+    e = gb.estimate("luo2016_stereo", left=img, right=img, camera=dict(cam, baseline=0.06))
+    assert e["input"] == "stereo_pair"
+    with pytest.raises(gb.InputError, match="right"):
+        gb.estimate("luo2016_stereo", left=img, camera=dict(cam, baseline=0.06))
+    with pytest.raises(gb.InputError, match="H x W x 3"):
+        gb.estimate("luo2016_instances", left=img[:, :, 0], camera=cam, depth=1.0)
+    with pytest.raises(gb.InputError, match="train_labels"):
+        gb.estimate("dey2012_classification", pts, colours=colours, classes=["berry", "leaf"],
+                    train_labels=np.full(400, 5))
