@@ -249,6 +249,7 @@ py::dict request_of(const EstimatorInput& in, const PythonParams& p) {
   py::list quantities;
   for (Quantity q : p.quantities) quantities.append(quantity_name(q));
   r["quantities"] = quantities;
+  // A fresh dict per call: a function that edits its params cannot change the next case.
   r["params"] = py::module_::import("json").attr("loads")(p.params.dump());
   py::list attributes;
   if (normals) {
