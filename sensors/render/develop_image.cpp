@@ -114,6 +114,9 @@ const ParamTable<PhotoCameraParams>& photo_camera_param_table() {
       ParamTable<P>()
           .integer("samples", "count", &P::samples, 1, 8,
                    "anti-aliasing: where what a pixel sees changes, samples^2 more rays stratified over it")
+          .integer("sky_samples", "count", &P::sky_samples, 1, 64,
+                   "`ray` renderer: sky rays a pixel's surface casts per face before the 5 x 5 filter; more "
+                   "lowers the filtered light's blotches, which differ between a pair's two images (docs/seed004.md)")
           .real("f_number", "-", &P::f_number, 0, 32,
                 "aperture of the thin lens, 0: pinhole (assumed f/4 for a 6 mm machine-vision lens)")
           .validate([](const P& p, const ConfigNode& node) {

@@ -18,6 +18,7 @@ struct PhotoCameraParams {
   // changes, samples^2 more stratified over the pixel (a box filter); a thin lens at
   // f_number (0: pinhole) focused at focus_distance (0: the bunch's centre).
   int samples = 2;               // per pixel side at edges, [1, 8]
+  int sky_samples = 1;           // sky rays a surface sample casts per face (ray renderer), [1, 64]
   double f_number = 4.0;         // [0 or 1, 32]; 0 = pinhole
   double focus_distance = 0;     // m, [0, 100]; 0 = on the bunch
   enum class Exposure { Auto, Fixed };

@@ -208,6 +208,9 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   const std::uint64_t s_pix = derive_seed(seed, 11), s_sun = derive_seed(seed, 13), s_sky = derive_seed(seed, 14),
                       s_mir = derive_seed(seed, 15);
   const Vec3 optical_axis = cam.pose.linear().col(2);
+  const int K = camera.sky_samples;
+  std::vector<std::uint64_t> sky_stream(static_cast<std::size_t>(K), s_sky);  // the first as before
+  for (int k = 1; k < K; ++k) sky_stream[static_cast<std::size_t>(k)] = derive_seed(s_sky, static_cast<std::uint64_t>(k));
 
   // Shades a batch of camera rays; `ids` number the samples for the hashed draws. A
   // sample that meets the object `reuse_key` names (its pixel's centre object) casts
@@ -271,10 +274,13 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       }
       if (ground[i]) continue;
       s.sky_reused = reuse_key != nullptr && reuse_key[i] == s.key;
-      // Sky rays, cosine-weighted about each face that reflects (front) or transmits (back).
+      // Sky rays, cosine-weighted about each face that reflects (front) or transmits
+      // (back): sky_samples of them, consecutive, the first from the stream s_sky.
       if (!s.sky_reused) {
         z.front_of[i] = static_cast<int>(z.sky_rays.size());
-        z.sky_rays.push_back({p + 1e-4 * nrm, cosine_direction(nrm, hashed_uniform(s_sky, 4 * id), hashed_uniform(s_sky, 4 * id + 1))});
+        for (int k = 0; k < K; ++k)
+          z.sky_rays.push_back({p + 1e-4 * nrm, cosine_direction(nrm, hashed_uniform(sky_stream[k], 4 * id),
+                                                                 hashed_uniform(sky_stream[k], 4 * id + 1))});
       }
       if (transmits && !s.sky_reused) {
         // The far face: a leaf's other side; a berry's antipode (what the flesh
@@ -285,8 +291,9 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
           back_from = b.centre - (b.radius + 1e-4) * nrm;
         }
         z.back_of[i] = static_cast<int>(z.sky_rays.size());
-        z.sky_rays.push_back(
-            {back_from, cosine_direction(-nrm, hashed_uniform(s_sky, 4 * id + 2), hashed_uniform(s_sky, 4 * id + 3))});
+        for (int k = 0; k < K; ++k)
+          z.sky_rays.push_back({back_from, cosine_direction(-nrm, hashed_uniform(sky_stream[k], 4 * id + 2),
+                                                            hashed_uniform(sky_stream[k], 4 * id + 3))});
       }
       // A mirror ray of glossy surfaces, blurred by the lobe's roughness (a cone of
       // half-angle about alpha): the sky or ground it sees, or nothing.
@@ -336,6 +343,11 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       if (sr.direction.z() < 0) return ground_radiance(true);
       return sky.radiance(sr.direction);
     };
+    const auto mean_incoming = [&](int first) -> C3 {
+      C3 sum = C3::Zero();
+      for (int k = 0; k < K; ++k) sum += incoming(first + k);
+      return sum / K;
+    };
     for (std::size_t i = 0; i < n; ++i) {
       Sample& s = out[i];
       if (s.key == 0) continue;
@@ -353,8 +365,8 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       }
       // Cosine-weighted sampling: the irradiance estimate is pi L, the reflected
       // radiance rho / pi times that.
-      if (z.front_of[i] >= 0) s.sky_front = incoming(z.front_of[i]);
-      if (z.back_of[i] >= 0) s.sky_back = incoming(z.back_of[i]);
+      if (z.front_of[i] >= 0) s.sky_front = mean_incoming(z.front_of[i]);
+      if (z.back_of[i] >= 0) s.sky_back = mean_incoming(z.back_of[i]);
       if (z.mir_of[i] >= 0 && !z.mblocked[static_cast<std::size_t>(z.mir_of[i])]) {
         const Vec3& d = z.mir_dir[i];
         const double f = z.mat[i].specular + (1 - z.mat[i].specular) * std::pow(1 - std::max(0.0, s.normal.dot(wo)), 5);

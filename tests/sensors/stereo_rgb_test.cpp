@@ -197,6 +197,9 @@ TEST(StereoRgb, TheRayRenderersKeysAreCheckedWithTheirRanges) {
   EXPECT_NE(bloom.find("[0, 1]"), std::string::npos) << bloom;
   const std::string lens = error_of("type: stereo_rgb\nrenderer: ray\nlight: front\ncamera: {f_number: 0.5}\n");
   EXPECT_NE(lens.find("f_number"), std::string::npos) << lens;
+  const std::string sky = error_of("type: stereo_rgb\nrenderer: ray\nlight: overcast\ncamera: {sky_samples: 0}\n");
+  EXPECT_NE(sky.find("sky_samples"), std::string::npos) << sky;
+  EXPECT_NE(sky.find("[1, 64]"), std::string::npos) << sky;
   const std::string opengl = error_of("type: stereo_rgb\nappearance: {bloom: 0.5}\n");
   EXPECT_NE(opengl.find("renderer: ray or cycles"), std::string::npos) << opengl;
   const std::string cycles = error_of("type: stereo_rgb\nrenderer: ray\nlight: front\ncycles: {samples: 4}\n");

@@ -104,6 +104,44 @@ TEST(RayRender, TheImageIsTheSameAtAnyThreadCount) {
   EXPECT_NE(one, ray_render(s.scene, cam, light, AppearanceParams{}, p, 0.006, 8).linear);
 }
 
+// More sky rays a pixel (`sky_samples`) lower the sky light's Monte Carlo noise, the
+// blotches that differ between a pair's two images (docs/seed004.md), without moving
+// the image's mean. The variance between two seeds' images is a + b / K: the glossy
+// mirror rays' share a stays, the sky's b falls as 1 / K, so (v1 - v4) / (v4 - v16)
+// is (1 - 1/4) / (1/4 - 1/16) = 4.
+TEST(RayRender, MoreSkySamplesLowerTheSkysNoiseAsOneOverTheirCountAndKeepTheMean) {
+  const RowScene s;
+  const Vec3 c = s.scene.bunch_centre();
+  const Camera cam = camera_at(c - Vec3(0, 0.5, 0), c, 96, 72, 40);
+  Illumination light;  // overcast: all light from the sky
+  light.sun = 0;
+  light.sky_irradiance = 1;
+  const auto stats = [&](int k) {
+    PhotoCameraParams p = pinhole(1);  // no edge samples: their jitter is noise of another kind
+    p.sky_samples = k;
+    const std::vector<float> a = ray_render(s.scene, cam, light, AppearanceParams{}, p, 0.006, 7).linear;
+    const std::vector<float> b = ray_render(s.scene, cam, light, AppearanceParams{}, p, 0.006, 8).linear;
+    double var = 0, mean = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      var += (a[i] - b[i]) * (a[i] - b[i]) / 2;
+      mean += (a[i] + b[i]) / 2;
+    }
+    return std::pair<double, double>(var / static_cast<double>(a.size()), mean / static_cast<double>(a.size()));
+  };
+  const auto [v1, m1] = stats(1);
+  const auto [v4, m4] = stats(4);
+  const auto [v16, m16] = stats(16);
+  const double sky = (v1 - v4) / 0.75;
+  std::printf("[ray] seed-to-seed variance at 1, 4, 16 sky rays: %.3g %.3g %.3g (sky's share at 1: %.2f); "
+              "(v1 - v4) / (v4 - v16) = %.2f; means %.4f %.4f %.4f\n",
+              v1, v4, v16, sky / v1, (v1 - v4) / (v4 - v16), m1, m4, m16);
+  EXPECT_GT(v1, v4);
+  EXPECT_GT(v4, v16);
+  EXPECT_NEAR((v1 - v4) / (v4 - v16), 4.0, 1.5);
+  EXPECT_NEAR(m4, m1, 0.01 * m1);
+  EXPECT_NEAR(m16, m1, 0.01 * m1);
+}
+
 // With one sample per pixel (its centre, as the exact labels take), the bunch changes
 // exactly the pixels the exact labels mark: against the same view with the bunch
 // moved out of sight (the ground kept at the same height, too far below to catch its
