@@ -98,31 +98,22 @@ py::dict synth_bunch(const SceneSet& set, int index, bool mesh) {
   d["cutting_point"] = vector_of(3, [&](std::size_t j) { return b.cutting_point[static_cast<int>(j)]; });
   d["truth_json"] = ground_truth_json(b, truth, record).dump();
   if (mesh) {
-    // The exported faces (internal ones dropped) and the vertices they use, renumbered
-    // in order of first use, as the PLY file has them.
+    // The faces and vertices the PLY file has (synth/mesh.h).
     const TriMesh& m = surface;
-    std::vector<std::size_t> kept;
-    std::vector<int> renumber(m.vertices.size(), -1);
-    std::vector<std::size_t> used;
-    for (std::size_t f = 0; f < m.faces.size(); ++f) {
-      if (m.face_internal[f]) continue;
-      kept.push_back(f);
-      for (int v : m.faces[f]) {
-        if (renumber[static_cast<std::size_t>(v)] < 0) {
-          renumber[static_cast<std::size_t>(v)] = static_cast<int>(used.size());
-          used.push_back(static_cast<std::size_t>(v));
-        }
-      }
-    }
+    const Exported e = exported(m);
+    const std::size_t nf = e.faces.size();
     py::dict md;
-    md["vertices"] = matrix(used.size(), 3, [&](std::size_t i, std::size_t j) { return m.vertices[used[i]][static_cast<int>(j)]; });
-    py::array_t<std::int32_t> faces(std::vector<py::ssize_t>{static_cast<py::ssize_t>(kept.size()), 3});
-    py::array_t<std::int32_t> berry(static_cast<py::ssize_t>(kept.size()));
+    md["vertices"] = matrix(e.vertices.size(), 3, [&](std::size_t i, std::size_t j) {
+      return m.vertices[static_cast<std::size_t>(e.vertices[i])][static_cast<int>(j)];
+    });
+    py::array_t<std::int32_t> faces(std::vector<py::ssize_t>{static_cast<py::ssize_t>(nf), 3});
+    py::array_t<std::int32_t> berry(static_cast<py::ssize_t>(nf));
     py::list face_parts;
-    for (std::size_t i = 0; i < kept.size(); ++i) {
-      const std::size_t f = kept[i];
+    for (std::size_t i = 0; i < nf; ++i) {
+      const auto f = static_cast<std::size_t>(e.faces[i]);
       for (int k = 0; k < 3; ++k)
-        faces.mutable_at(static_cast<py::ssize_t>(i), k) = renumber[static_cast<std::size_t>(m.faces[f][static_cast<std::size_t>(k)])];
+        faces.mutable_at(static_cast<py::ssize_t>(i), k) =
+            e.vertex_map[static_cast<std::size_t>(m.faces[f][static_cast<std::size_t>(k)])];
       berry.mutable_at(static_cast<py::ssize_t>(i)) = m.face_berry[f];
       face_parts.append(part_name(m.face_part[f]));
     }

@@ -143,17 +143,11 @@ void put(std::string& s, T v) {
 }
 unsigned char byte(float c) { return static_cast<unsigned char>(std::lround(std::clamp(c, 0.0f, 1.0f) * 255)); }
 
-// Faces to export and the vertices they use, renumbered densely.
-struct Exported {
-  std::vector<int> faces;
-  std::vector<int> vertex_map;  // old -> new, -1 unused
-  std::vector<int> vertices;    // new -> old
-  std::vector<Rgb> vertex_colour;
-};
+}  // namespace
+
 Exported exported(const TriMesh& m) {
   Exported e;
   e.vertex_map.assign(m.vertices.size(), -1);
-  std::vector<Rgb> colour(m.vertices.size());
   for (int f = 0; f < static_cast<int>(m.faces.size()); ++f) {
     if (m.face_internal[f]) continue;
     e.faces.push_back(f);
@@ -167,8 +161,6 @@ Exported exported(const TriMesh& m) {
   }
   return e;
 }
-
-}  // namespace
 
 void unit_icosphere(int level, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& f) {
   const double t = (1 + std::sqrt(5.0)) / 2;

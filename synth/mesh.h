@@ -39,6 +39,16 @@ double enclosed_volume(const TriMesh& mesh);
 // Colour of a face label: berries a distinct hue per id, stems one per part.
 Rgb label_colour(Part part, int berry);
 
+// The faces the files export (internal ones dropped) and the vertices they use,
+// renumbered densely in order of first use, as ply_bytes and obj_text write them.
+struct Exported {
+  std::vector<int> faces;        // indices into mesh.faces
+  std::vector<int> vertex_map;   // old -> new, -1 unused
+  std::vector<int> vertices;     // new -> old
+  std::vector<Rgb> vertex_colour;  // new: the label colour of the first face using it
+};
+Exported exported(const TriMesh& mesh);
+
 // Binary little-endian PLY: vertex x y z (double) + label colour; face indices,
 // label colour, `part` (uchar) and `berry` (int). Exported faces only.
 std::string ply_bytes(const TriMesh& mesh);
