@@ -60,14 +60,18 @@ std::string synth_summary_csv(const std::vector<SynthResult>& results) {
   s.precision(10);
   s << "index,preset,seed,berries,solid_volume_cm3,mass_g,envelope_volume_cm3,compactness,"
        "pca_height_m,pca_length_m,pca_width_m,hanging_height_m,max_diameter_m,"
-       "cutting_point_x_m,cutting_point_y_m,cutting_point_z_m\n";
+       "cutting_point_x_m,cutting_point_y_m,cutting_point_z_m,contact_pairs,berries_in_contact,"
+       "contact_depth_mean,contact_depth_max,berries_removed_by_packing,horizontal_extent_ratio,"
+       "wing_berry_share\n";
   for (const auto& r : results) {
     const auto& g = r.truth;
     s << r.job.index << "," << r.job.preset << "," << r.job.seed << "," << g.berry_count << ","
       << g.volume.solid * 1e6 << "," << g.mass << "," << g.envelope_volume * 1e6 << "," << g.compactness
       << "," << g.pca_extent[0] << "," << g.pca_extent[1] << "," << g.pca_extent[2] << "," << g.height
       << "," << g.max_diameter << "," << g.cutting_point.x() << "," << g.cutting_point.y() << ","
-      << g.cutting_point.z() << "\n";
+      << g.cutting_point.z() << "," << g.contact_pairs << "," << g.berries_in_contact << ","
+      << g.contact_depth_mean << "," << g.contact_depth_max << "," << r.report.berries_removed << ","
+      << g.horizontal_extent_ratio << "," << g.wing_berry_share << "\n";
   }
   return s.str();
 }

@@ -23,6 +23,7 @@ struct Seedling {
   Vec3 centre;
   Rgb colour;
   bool alive = true;
+  bool on_wing = false;  // pulled towards the wing's axis rather than the rachis
 };
 
 Vec3 pedicel_end(const Seedling& s) {
@@ -63,7 +64,7 @@ float clamp01(double v) { return static_cast<float>(std::clamp(v, 0.0, 1.0)); }
 // order (size, peduncle, rachis, branches, berries), so a seed gives one bunch.
 class BunchBuilder {
  public:
-  BunchBuilder(const BunchParams& params, std::uint64_t seed) : p(params), rng(seed) {}
+  BunchBuilder(const BunchParams& params, std::uint64_t seed) : p(params), rng(seed), seed_(seed) {}
 
   Bunch build(GenerationReport* report) {
     bunch.stem_colour = p.stem_colour;
@@ -72,6 +73,7 @@ class BunchBuilder {
     add_rachis();
     add_branches();
     add_tip_carrier();
+    add_wing();
     seed_berries();
     relax();
     remove_bad_contacts();
@@ -96,6 +98,7 @@ class BunchBuilder {
   struct Carrier {
     int stem;
     double t0, t1;  // usable interval along the stem, m from its start
+    bool wing = false;
   };
   static constexpr double min_pedicel_angle = 35 * kDeg;
 
@@ -172,12 +175,7 @@ class BunchBuilder {
         const Vec3 d(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), -std::cos(alpha));
         Stem br{a, a + len * d, p.branch_radius, Part::Rachis};
         br.parent = segment[k];
-        bool clear = true;
-        for (int j = 0; j < static_cast<int>(bunch.stems.size()) && clear; ++j) {
-          const Stem& o = bunch.stems[j];
-          clear = j == br.parent || segment_segment_distance(br.start, br.end, o.start, o.end) >= br.radius + o.radius;
-        }
-        if (!clear) continue;
+        if (!clear_of_stems(br)) continue;
         const int idx = static_cast<int>(bunch.stems.size());
         bunch.stems.push_back(br);
         ++branches;
@@ -187,6 +185,61 @@ class BunchBuilder {
         if (t1 > t0) carriers.push_back({idx, t0, t1});
         break;
       }
+    }
+  }
+
+  // True when `st` keeps clear of every stem but its parent.
+  bool clear_of_stems(const Stem& st) const {
+    for (int j = 0; j < static_cast<int>(bunch.stems.size()); ++j) {
+      const Stem& o = bunch.stems[j];
+      if (j != st.parent && segment_segment_distance(st.start, st.end, o.start, o.end) < st.radius + o.radius) return false;
+    }
+    return true;
+  }
+
+  // A wing: an arm leaving the peduncle below the cutting point, 60-80 deg from the
+  // downward vertical, with phyllotactic side branches on its outer 70 % (a small
+  // bunch of its own). Drawn from its own stream, so a bunch without one is the bunch
+  // its seed gives with wings off; a wing that cannot keep clear of the body in 12
+  // tries is left out.
+  void add_wing() {
+    if (p.wing_probability <= 0) return;
+    Rng wr(derive_seed(seed_, 0x717e));
+    if (wr.uniform(0, 1) >= p.wing_probability) return;
+    const Vec3 up = bunch.peduncle_direction;
+    const double cut = p.cutting_point_fraction * p.peduncle_length;
+    const double length = p.wing_length * wr.uniform(0.85, 1.15);
+    for (int attempt = 0; attempt < 12; ++attempt) {
+      const double at = wr.uniform(0.45, 0.85) * cut, phi = wr.uniform(0, 2 * M_PI);
+      const double alpha = wr.uniform(60, 80) * kDeg;
+      const Vec3 d(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), -std::cos(alpha));
+      Stem arm{at * up, at * up + length * d, p.rachis_radius_bottom, Part::Rachis};
+      arm.parent = bunch.peduncle;
+      if (!clear_of_stems(arm)) continue;
+      bunch.wing = static_cast<int>(bunch.stems.size());
+      bunch.stems.push_back(arm);
+      Vec3 e1, e2;
+      perpendicular_basis(d, e1, e2);
+      const double phi0 = wr.uniform(0, 2 * M_PI);
+      int k = 0;
+      for (double h = 0.3 * length; h <= length - 0.5 * p.branch_spacing; h += p.branch_spacing, ++k) {
+        const double f = (h - 0.3 * length) / (0.7 * length);
+        const double len = std::max(p.branch_length_bottom, (0.35 - 0.2 * f) * length) * wr.uniform(0.9, 1.1);
+        const double beta = (p.branch_angle + wr.uniform(-5, 5)) * kDeg, psi = phi0 + k * 137.508 * kDeg;
+        const Vec3 dir = std::sin(beta) * (std::cos(psi) * e1 + std::sin(psi) * e2) + std::cos(beta) * d;
+        const Vec3 a = arm.start + h * d;
+        Stem br{a, a + len * dir, p.branch_radius, Part::Rachis};
+        br.parent = bunch.wing;
+        if (!clear_of_stems(br)) continue;
+        const int idx = static_cast<int>(bunch.stems.size());
+        bunch.stems.push_back(br);
+        const double reach_out = (arm.radius + p.pedicel_radius) / std::sin(beta) + 2 * p.pedicel_radius;
+        const double t0 = std::max(0.3 * len, reach_out), t1 = len - 1.5 * p.pedicel_radius;
+        if (t1 > t0) carriers.push_back({idx, t0, t1, true});
+      }
+      const double t1 = length - 1.5 * p.pedicel_radius, t0 = std::max(0.8 * length, t1 - p.branch_spacing);
+      carriers.push_back({bunch.wing, t0, t1, true});
+      return;
     }
   }
 
@@ -201,21 +254,31 @@ class BunchBuilder {
 
   // Berries per carrier, placed along it, with radius, pedicel and colour.
   void seed_berries() {
-    // Berries per carrier in proportion to usable length (largest remainder).
-    std::vector<double> weight;
-    for (const auto& c : carriers) weight.push_back(c.t1 - c.t0);
-    const double wsum = std::accumulate(weight.begin(), weight.end(), 0.0);
+    // Berries per carrier in proportion to usable length (largest remainder), the
+    // wing's share over the wing's carriers, the rest over the main body's.
     std::vector<int> count(carriers.size());
-    std::vector<std::pair<double, int>> remainder;
-    int assigned = 0;
-    for (std::size_t c = 0; c < carriers.size(); ++c) {
-      const double exact = requested * weight[c] / wsum;
-      count[c] = static_cast<int>(std::floor(exact));
-      assigned += count[c];
-      remainder.emplace_back(-(exact - count[c]), static_cast<int>(c));
+    const bool winged = bunch.wing >= 0;
+    const int on_wing = winged ? static_cast<int>(std::lround(p.wing_share * requested)) : 0;
+    for (const bool wing : {false, true}) {
+      const int total = wing ? on_wing : requested - on_wing;
+      std::vector<double> weight(carriers.size(), 0.0);
+      for (std::size_t c = 0; c < carriers.size(); ++c) {
+        if (carriers[c].wing == wing) weight[c] = carriers[c].t1 - carriers[c].t0;
+      }
+      const double wsum = std::accumulate(weight.begin(), weight.end(), 0.0);
+      if (total == 0 || wsum <= 0) continue;
+      std::vector<std::pair<double, int>> remainder;
+      int assigned = 0;
+      for (std::size_t c = 0; c < carriers.size(); ++c) {
+        if (carriers[c].wing != wing) continue;
+        const double exact = total * weight[c] / wsum;
+        count[c] = static_cast<int>(std::floor(exact));
+        assigned += count[c];
+        remainder.emplace_back(-(exact - count[c]), static_cast<int>(c));
+      }
+      std::sort(remainder.begin(), remainder.end());
+      for (int k = 0; assigned < total; ++k, ++assigned) ++count[remainder[k % remainder.size()].second];
     }
-    std::sort(remainder.begin(), remainder.end());
-    for (int k = 0; assigned < requested; ++k, ++assigned) ++count[remainder[k % remainder.size()].second];
 
     for (std::size_t c = 0; c < carriers.size(); ++c) {
       const Stem& carrier = bunch.stems[carriers[c].stem];
@@ -225,6 +288,7 @@ class BunchBuilder {
         const double t = carriers[c].t0 + u * (carriers[c].t1 - carriers[c].t0);
         Seedling s;
         s.carrier = carriers[c].stem;
+        s.on_wing = carriers[c].wing;
         s.anchor = carrier.start + t * axis;
         s.radius =
             std::clamp(rng.normal(p.berry_radius_mean, p.berry_radius_sd), p.berry_radius_min, p.berry_radius_max);
@@ -233,6 +297,11 @@ class BunchBuilder {
         s.reach = ped + s.radius;
         s.reach_max = p.pedicel_stretch * ped + s.radius;
         Vec3 radial(s.anchor.x(), s.anchor.y(), 0);
+        if (s.on_wing) {  // outwards from the wing's axis
+          const Stem& w = bunch.stems[bunch.wing];
+          const Vec3 wd = (w.end - w.start).normalized();
+          radial = s.anchor - w.start - (s.anchor - w.start).dot(wd) * wd;
+        }
         radial = radial.squaredNorm() > 1e-12 ? radial.normalized() : Vec3(axis.x(), axis.y(), 0);
         // One draw per statement, z first: the order GCC gave the unspecified order of
         // a call's arguments, which clang reverses.
@@ -273,9 +342,17 @@ class BunchBuilder {
     if (!settle) {
       // Forces fade out so the packing ends in equilibrium.
       const double fade = 1.0 - static_cast<double>(it) / p.relax_iterations;
-      const double pull = 0.015 * p.compactness * fade;
-      s.centre.x() -= pull * s.centre.x();
-      s.centre.y() -= pull * s.centre.y();
+      const double pull = p.pull_strength * p.compactness * fade;
+      if (s.on_wing) {
+        // Towards the wing's axis, as the body's berries go towards the rachis.
+        const Stem& w = bunch.stems[bunch.wing];
+        const Vec3 ab = w.end - w.start;
+        const Vec3 q = w.start + std::clamp((s.centre - w.start).dot(ab) / ab.squaredNorm(), 0.0, 1.0) * ab;
+        s.centre -= pull * (s.centre - q);
+      } else {
+        s.centre.x() -= pull * s.centre.x();
+        s.centre.y() -= pull * s.centre.y();
+      }
       s.centre.z() -= 0.03 * s.radius * (1.0 - 0.5 * p.compactness) * fade;
     }
     for (std::size_t j = i + 1; j < n(); ++j) {
@@ -379,6 +456,7 @@ class BunchBuilder {
 
   const BunchParams& p;
   Rng rng;
+  std::uint64_t seed_;
   Bunch bunch;
   int requested = 0, nb = 0, branches = 0, removed = 0;
   double L = 0, branch_scale = 1;
@@ -396,7 +474,9 @@ class BunchBuilder {
 
 Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport* report) {
   validate_bunch_params(p, "bunch parameters");
-  return BunchBuilder(p, seed).build(report);
+  const BunchParams q = oiv_compactness_params(p);
+  if (p.oiv_compactness != 0) validate_bunch_params(q, "bunch parameters of oiv_compactness " + std::to_string(p.oiv_compactness));
+  return BunchBuilder(q, seed).build(report);
 }
 
 std::vector<std::string> check_bunch(const Bunch& b) {

@@ -222,6 +222,64 @@ GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
   g.envelope_volume = 0.5 * (g.envelope_lower + g.envelope_upper);
   g.compactness = g.volume.solid / g.envelope_volume;
 
+  // Berry contacts, all pairs (n <= 1000 berries: at most 5e5 distance tests).
+  std::vector<char> touched(bunch.berries.size(), 0);
+  double depth_sum = 0;
+  for (std::size_t i = 0; i < bunch.berries.size(); ++i) {
+    const Berry& a = bunch.berries[i];
+    for (std::size_t j = i + 1; j < bunch.berries.size(); ++j) {
+      const Berry& b = bunch.berries[j];
+      const double depth = a.radius + b.radius - (a.centre - b.centre).norm();
+      if (depth <= 0) continue;
+      const double ratio = depth / std::min(a.radius, b.radius);
+      ++g.contact_pairs;
+      depth_sum += ratio;
+      g.contact_depth_max = std::max(g.contact_depth_max, ratio);
+      touched[i] = touched[j] = 1;
+    }
+  }
+  if (!bunch.berries.empty()) {
+    g.berries_in_contact = static_cast<double>(std::count(touched.begin(), touched.end(), 1)) / bunch.berries.size();
+  }
+  if (g.contact_pairs > 0) g.contact_depth_mean = depth_sum / g.contact_pairs;
+
+  // Asymmetry: horizontal principal axes of the berries (weights r^3, as the PCA frame).
+  if (bunch.berries.size() >= 2) {
+    Eigen::Vector2d centre2 = Eigen::Vector2d::Zero();
+    double weight = 0;
+    for (const auto& b : bunch.berries) {
+      const double w = b.radius * b.radius * b.radius;
+      centre2 += w * b.centre.head<2>();
+      weight += w;
+    }
+    centre2 /= weight;
+    Eigen::Matrix2d cov2 = Eigen::Matrix2d::Zero();
+    for (const auto& b : bunch.berries) {
+      const Eigen::Vector2d d = b.centre.head<2>() - centre2;
+      cov2 += b.radius * b.radius * b.radius * d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov2);
+    double span[2];
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector2d u = es.eigenvectors().col(k);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const auto& b : bunch.berries) {
+        lo = std::min(lo, b.centre.head<2>().dot(u) - b.radius);
+        hi = std::max(hi, b.centre.head<2>().dot(u) + b.radius);
+      }
+      span[k] = hi - lo;
+    }
+    g.horizontal_extent_ratio = std::min(span[0], span[1]) / std::max(span[0], span[1]);
+  }
+  if (bunch.wing >= 0 && !bunch.berries.empty()) {
+    int on_wing = 0;
+    for (const auto& b : bunch.berries) {
+      const int carrier = bunch.stems[b.pedicel].parent;
+      on_wing += carrier == bunch.wing || bunch.stems[carrier].parent == bunch.wing;
+    }
+    g.wing_berry_share = static_cast<double>(on_wing) / bunch.berries.size();
+  }
+
   // Bounding box of the whole solid.
   g.bbox_min = Vec3::Constant(std::numeric_limits<double>::infinity());
   g.bbox_max = -g.bbox_min;

@@ -64,6 +64,19 @@ struct GroundTruth {
   double envelope_lower = 0;
   double envelope_upper = 0;
   double compactness = 0;  // solid / envelope
+  // Berry contacts (OIV 204's classes 7-9 have berries pressed into each other). Two
+  // berries are in contact where their balls overlap; each berry's solid is its ball
+  // cut by the radical plane (the power cell), so a contact is a flat disc. Depth is
+  // the overlap r_i + r_j - |c_i - c_j| over the smaller radius.
+  int contact_pairs = 0;
+  double berries_in_contact = 0;  // share of berries with at least one contact
+  double contact_depth_mean = 0;  // over the pairs in contact; 0 without any
+  double contact_depth_max = 0;
+  // Asymmetry: the berries' extents along the two horizontal principal axes of their
+  // volume-weighted centres, minor over major (1 = round about the vertical; a wing or a
+  // flat side lowers it), and the share of the berries carried by the wing.
+  double horizontal_extent_ratio = 1;
+  double wing_berry_share = 0;
   Vec3 cutting_point = Vec3::Zero();
   Vec3 peduncle_direction = Vec3::UnitZ();
   Vec3 bbox_min = Vec3::Zero(), bbox_max = Vec3::Zero();  // whole solid, m

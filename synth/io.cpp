@@ -89,6 +89,7 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g, c
                      {"berries_removed_by_packing", r.report.berries_removed},
                      {"rachis_length_m", r.report.rachis_length},
                      {"lateral_branches", r.report.branches}};
+  if (r.params.oiv_compactness != 0) j["generation"]["parameters_of_the_oiv_class"] = params_json(oiv_compactness_params(r.params));
   j["solid_volume_m3"] = g.volume.solid;
   j["solid_volume_cm3"] = g.volume.solid * 1e6;
   j["volume_terms_m3"] = {{"berries_union", g.volume.berries_union},
@@ -124,6 +125,15 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g, c
                    {"lower_bound_m3", g.envelope_lower},
                    {"upper_bound_m3", g.envelope_upper}};
   j["compactness"] = g.compactness;
+  j["berry_contacts"] = {{"definition", "pairs of overlapping berries; depth = overlap over the smaller radius"},
+                         {"pairs", g.contact_pairs},
+                         {"share_of_berries", g.berries_in_contact},
+                         {"depth_mean", g.contact_depth_mean},
+                         {"depth_max", g.contact_depth_max}};
+  j["asymmetry"] = {{"horizontal_extent_ratio", g.horizontal_extent_ratio},
+                    {"definition", "berries' extents along their two horizontal principal axes, minor / major"},
+                    {"wing_stem", b.wing},
+                    {"wing_berry_share", g.wing_berry_share}};
   j["cutting_point_m"] = vec(g.cutting_point);
   j["peduncle_direction"] = vec(g.peduncle_direction);
   j["bbox_m"] = {{"min", vec(g.bbox_min)}, {"max", vec(g.bbox_max)}};

@@ -1,5 +1,6 @@
 #include "synth/params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -29,6 +30,13 @@ const ParamTable<BunchParams>& bunch_param_table() {
             "0 loose (berries hang free) .. 1 compact (pulled to the axis and pressed)")
       .real("max_press_depth", "-", &P::max_press_depth, 0, 0.3,
             "largest overlap depth of two pressed berries over the smaller radius, at compactness 1")
+      .real("pull_strength", "1/step", &P::pull_strength, 0, 0.1,
+            "share of a berry's horizontal distance to the axis pulled in per packing step at compactness 1, "
+            "fading to 0 (0.015 keeps every preset's drop rate at 0.2-5 %, docs/synth.md)")
+      .integer("oiv_compactness", "class", &P::oiv_compactness, 0, 9,
+               "OIV 204 bunch compactness class, 1 very loose .. 9 very dense (berries pressed flat); 0 = off. "
+               "Sets compactness, pull_strength, max_press_depth, pedicel_stretch and scales the berry count, "
+               "branch and pedicel lengths: the drivers of Tello et al. 2015 (docs/synth.md)")
       .real("rachis_length_min", "m", &P::rachis_length_min, 0.03, 0.4,
             "shortest main rachis (uniform in [min, max])")
       .real("rachis_length_max", "m", &P::rachis_length_max, 0.03, 0.4,
@@ -65,6 +73,15 @@ const ParamTable<BunchParams>& bunch_param_table() {
             "peduncle angle from vertical (random azimuth)")
       .real("cutting_point_fraction", "-", &P::cutting_point_fraction, 0.05, 0.95,
             "cutting point along the peduncle from the bunch top (seed 001)")
+      .real("wing_probability", "-", &P::wing_probability, 0, 1,
+            "chance a bunch has a wing: a lateral arm from the peduncle, apart from the main body, with its own "
+            "branches and berries (Tarter & Poni 2010, HortScience 45:1270); drawn from its own stream, so a "
+            "bunch without a wing is the one its seed gives at 0")
+      .real("wing_share", "-", &P::wing_share, 0.05, 0.5,
+            "share of the bunch's berries on the wing (no published share was found; 0.15 is a choice)")
+      .real("wing_length", "m", &P::wing_length, 0.02, 0.2,
+            "length of the wing's axis, drawn within +-15 % (a choice: 0.1 m reaches past table-red's top "
+            "branches, so the wing stands apart from the body)")
       .rgb("berry_colour", &P::berry_colour, "mean berry colour")
       .real("colour_variation", "-", &P::colour_variation, 0, 0.3,
             "sd of the per-berry colour jitter")
@@ -150,6 +167,34 @@ BunchParams preset(const std::string& name) {
   std::string list;
   for (const auto& n : preset_names()) list += (list.empty() ? "" : ", ") + n;
   throw InputError("unknown preset '" + name + "'; allowed: " + list);
+}
+
+BunchParams oiv_compactness_params(const BunchParams& p) {
+  if (p.oiv_compactness == 0) return p;
+  // s runs 0 (class 1) .. 1 (class 9). Compactness grows with the berries per bunch
+  // and falls with the first ramification's length, its two main drivers, pedicel
+  // length secondary (Tello et al. 2015, Aust. J. Grape Wine Res. 21:277; Tello &
+  // Ibanez 2014, Vitis 53:9, indexes CI-18/19). No per-class figures were found
+  // published, so the factors are chosen to span the generator's range and the result
+  // is measured per class (docs/synth.md). Above class 5 the skeleton stays the
+  // variety's: 30 % shorter branches or 15 % more berries made the packing drop 19-33 %
+  // of table-red's berries (measured, docs/synth.md), so classes 6-9 tighten by pull,
+  // pressing and pedicel stretch alone; class 9's are the densest it places (5 % dropped).
+  const double s = (p.oiv_compactness - 1) / 8.0, loose = std::max(0.0, 0.5 - s);
+  BunchParams q = p;
+  q.compactness = s;
+  q.pull_strength = 0.015 + 0.025 * s * s;
+  q.max_press_depth = 0.3 * s;  // class 9: contacts flattened to 0.3 of the smaller radius
+  q.pedicel_stretch = 2.5 + 1.5 * s;
+  const double count = 1 - 0.3 * loose, branch = 1 + 0.6 * loose, pedicel = 1 + 0.4 * loose;
+  const auto scaled_count = [&](int n) { return std::clamp(static_cast<int>(std::lround(n * count)), 1, 1000); };
+  q.berry_count_min = scaled_count(p.berry_count_min);
+  q.berry_count_max = scaled_count(p.berry_count_max);
+  q.branch_length_top = std::clamp(p.branch_length_top * branch, 0.002, 0.2);
+  q.branch_length_bottom = std::clamp(p.branch_length_bottom * branch, 0.002, 0.2);
+  q.pedicel_length_mean = std::clamp(p.pedicel_length_mean * pedicel, 0.001, 0.03);
+  q.pedicel_length_sd = std::min(p.pedicel_length_sd * pedicel, 0.01);
+  return q;
 }
 
 void read_bunch_params(const ConfigNode& node, BunchParams& p) { bunch_param_table().read(node, p); }

@@ -25,6 +25,10 @@ struct BunchParams {
   double berry_radius_max = 0.0135;   // m
   double compactness = 0.6;           // 0 loose .. 1 compact
   double max_press_depth = 0.12;      // overlap depth / smaller radius, at compactness 1
+  double pull_strength = 0.015;       // share of the distance to the axis pulled per step, at compactness 1
+  // OIV descriptor 204 class, 1 (very loose) .. 9 (very dense); 0 = off. A class sets
+  // the drivers above and below from the variety's values (oiv_compactness_params).
+  int oiv_compactness = 0;
   // Rachis: a straight tapering main axis hanging from the peduncle.
   double rachis_length_min = 0.17;  // m
   double rachis_length_max = 0.25;  // m
@@ -47,6 +51,10 @@ struct BunchParams {
   double peduncle_radius = 0.0035;         // m
   double peduncle_angle = 20;              // deg from vertical
   double cutting_point_fraction = 0.5;     // along the peduncle from the bunch top
+  // Wing: a lateral arm from the peduncle with its own berries (off by default).
+  double wing_probability = 0;  // chance a bunch has a wing
+  double wing_share = 0.15;     // share of the bunch's berries on the wing
+  double wing_length = 0.10;    // m, the wing's axis
   // Appearance and mass.
   Rgb berry_colour{0.45f, 0.06f, 0.10f};
   double colour_variation = 0.08;  // sd of per-berry colour jitter
@@ -62,6 +70,12 @@ const ParamTable<BunchParams>& bunch_param_table();
 const std::vector<std::string>& preset_names();
 // Throws InputError naming the allowed presets.
 BunchParams preset(const std::string& name);
+
+// The parameters a bunch is generated with: `p` itself when oiv_compactness is 0,
+// else p with the class's drivers set (docs/synth.md, "Compactness classes"):
+// compactness, pull_strength, max_press_depth and pedicel_stretch, and the variety's
+// berry count, first-ramification (branch) and pedicel lengths scaled.
+BunchParams oiv_compactness_params(const BunchParams& p);
 
 // Reads overrides of any parameter from `node` (keys as in the spec table); range
 // errors name file:line and key. Then checks the cross-field rules.

@@ -63,6 +63,9 @@ struct Bunch {
   Vec3 peduncle_direction = Vec3::UnitZ();       // unit, from the bunch up to the cane
   Vec3 cutting_point = Vec3::Zero();             // on the peduncle axis (seed 001)
   int peduncle = -1;                             // index of the peduncle stem
+  // A wing: a lateral arm from the peduncle, apart from the main body (Tarter & Poni
+  // 2010), carrying its own branches and berries; index of its axis stem, -1 for none.
+  int wing = -1;
   Rgb stem_colour{0.42f, 0.45f, 0.18f};          // peduncle, rachis and pedicels
 };
 

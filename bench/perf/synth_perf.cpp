@@ -1,5 +1,5 @@
 // Google Benchmark: bunches generated per second per preset (generation alone, and
-// generation plus the full exact ground truth), and the mesh.
+// generation plus the full exact ground truth), per OIV compactness class, and the mesh.
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
 #include "synth/mesh.h"
@@ -14,6 +14,19 @@ using namespace grapebench;
 
 void BM_Generate(benchmark::State& state, std::string name) {
   const BunchParams p = preset(name);
+  std::uint64_t i = 0;
+  for (auto _ : state) {
+    Bunch b = generate_bunch(p, derive_seed(7, i++));
+    benchmark::DoNotOptimize(b.berries.data());
+  }
+  state.counters["bunches_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+// The OIV 204 classes against the preset's own setting (BM_Generate/table_red) in the
+// same run: classes 6-9 pack harder (pull, pressing, pedicel stretch).
+void BM_GenerateOivClass(benchmark::State& state, std::string name) {
+  BunchParams p = preset(name);
+  p.oiv_compactness = static_cast<int>(state.range(0));
   std::uint64_t i = 0;
   for (auto _ : state) {
     Bunch b = generate_bunch(p, derive_seed(7, i++));
@@ -57,6 +70,7 @@ BENCHMARK_CAPTURE(BM_Generate, table_red, std::string("table-red"))->Unit(benchm
 BENCHMARK_CAPTURE(BM_Generate, wine_red, std::string("wine-red"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Generate, summer_black, std::string("summer-black"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Generate, green_table, std::string("green-table"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_GenerateOivClass, table_red, std::string("table-red"))->Arg(1)->Arg(5)->Arg(9)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, table_red, std::string("table-red"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, wine_red, std::string("wine-red"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, summer_black, std::string("summer-black"))->Unit(benchmark::kMillisecond);

@@ -30,6 +30,23 @@ TEST_P(EveryPreset, ContactsAreOnlyThoseTheFormulaAccountsFor) {
   }
 }
 
+// The OIV classes and wings too: each keeps only the contacts the formula accounts
+// for, and presses no deeper than its class sets.
+TEST_P(EveryPreset, EveryOivClassAndWingKeepsOnlyTheContactsTheFormulaAccountsFor) {
+  for (int oiv : {1, 5, 9}) {
+    BunchParams p = preset(GetParam());
+    p.oiv_compactness = oiv;
+    p.wing_probability = oiv == 5 ? 0 : 1;
+    const BunchParams q = oiv_compactness_params(p);
+    for (std::uint64_t seed = 0; seed < 2; ++seed) {
+      const Bunch b = generate_bunch(p, seed);
+      const auto problems = check_bunch(b);
+      EXPECT_TRUE(problems.empty()) << GetParam() << " class " << oiv << " seed " << seed << ": " << problems.front();
+      EXPECT_LE(max_press_ratio(b), q.compactness * q.max_press_depth * (1 + 1e-6) + 1e-9);
+    }
+  }
+}
+
 TEST_P(EveryPreset, SameSeedSameBytesDifferentSeedDifferentBunch) {
   const BunchParams p = preset(GetParam());
   auto render = [&](std::uint64_t seed) {
@@ -98,6 +115,97 @@ TEST(GroundTruth, DimensionsAndEnvelopeAreConsistent) {
   EXPECT_LT(g.compactness, 1.0);
   EXPECT_GT(g.height_from_cutting_point, g.height * 0.9);
   EXPECT_NEAR((g.cutting_point - b.top).norm(), p.cutting_point_fraction * p.peduncle_length, 1e-12);
+}
+
+// OIV 204: solid / hull rises with the class; class 9 is denser than the continuous
+// key's densest setting (compactness 1) and its berries are pressed (docs/synth.md,
+// 8 table-red bunches: class 1 0.199, 5 0.339, 9 0.457, compactness 1 0.386).
+TEST(OivCompactness, DensityRisesWithTheClassAndClassNineIsPressed) {
+  struct Mean {
+    double solid_over_hull = 0, in_contact = 0, depth = 0;
+  };
+  const auto mean_of = [](BunchParams p) {
+    Mean m;
+    constexpr int kBunches = 4;
+    for (std::uint64_t seed = 0; seed < kBunches; ++seed) {
+      const GroundTruth g = compute_ground_truth(generate_bunch(p, 424242 + seed), p.density);
+      m.solid_over_hull += g.compactness / kBunches;
+      m.in_contact += g.berries_in_contact / kBunches;
+      m.depth += g.contact_depth_mean / kBunches;
+    }
+    return m;
+  };
+  BunchParams p = preset("table-red");
+  p.compactness = 1;
+  const Mean densest_before = mean_of(p);
+  p.oiv_compactness = 1;
+  const Mean c1 = mean_of(p);
+  p.oiv_compactness = 5;
+  const Mean c5 = mean_of(p);
+  p.oiv_compactness = 9;
+  const Mean c9 = mean_of(p);
+  EXPECT_LT(c1.solid_over_hull + 0.05, c5.solid_over_hull);
+  EXPECT_LT(c5.solid_over_hull + 0.05, c9.solid_over_hull);
+  EXPECT_GT(c9.solid_over_hull, densest_before.solid_over_hull + 0.03);
+  EXPECT_GT(c9.depth, 0.2);  // contacts flattened to a fifth of the radius and more
+  EXPECT_GT(c9.in_contact, 0.95);
+  EXPECT_LT(c1.in_contact, 0.7);  // very loose: many berries hang free
+  EXPECT_LT(c1.depth, 1e-6);  // touching at most: class 1 presses nothing
+}
+
+// A wing carries its share of the berries and makes the bunch less round about the
+// vertical (docs/synth.md: horizontal extent ratio 0.88 without, 0.77 with, table-red).
+TEST(Wing, CarriesItsShareAndBreaksTheRoundness) {
+  BunchParams p = preset("table-red");
+  double ratio_without = 0, ratio_with = 0, share = 0;
+  for (std::uint64_t seed = 0; seed < 4; ++seed) {
+    p.wing_probability = 0;
+    const Bunch round = generate_bunch(p, 424242 + seed);
+    EXPECT_EQ(round.wing, -1);
+    ratio_without += compute_ground_truth(round, p.density).horizontal_extent_ratio / 4;
+    p.wing_probability = 1;
+    const Bunch winged = generate_bunch(p, 424242 + seed);
+    ASSERT_GE(winged.wing, 0);
+    const GroundTruth g = compute_ground_truth(winged, p.density);
+    EXPECT_GT(g.wing_berry_share, 0.5 * p.wing_share);  // the body drops more berries than the wing
+    share += g.wing_berry_share / 4;
+    ratio_with += g.horizontal_extent_ratio / 4;
+  }
+  EXPECT_NEAR(share, p.wing_share, 0.04);
+  EXPECT_LT(ratio_with, ratio_without - 0.05);
+}
+
+// The wing draws from its own stream: at probability 0.5 the bunches that get none
+// are, bit for bit, those of probability 0.
+TEST(Wing, ABunchWithoutAWingIsTheBunchItsSeedGaveBefore) {
+  BunchParams p = preset("wine-red");
+  int without = 0, with = 0;
+  for (std::uint64_t seed = 0; seed < 8; ++seed) {
+    p.wing_probability = 0.5;
+    const Bunch b = generate_bunch(p, seed);
+    p.wing_probability = 0;
+    if (b.wing < 0) {
+      ++without;
+      EXPECT_EQ(bunch_bits(b), bunch_bits(generate_bunch(p, seed))) << "seed " << seed;
+    } else {
+      ++with;
+    }
+  }
+  EXPECT_GT(without, 0);
+  EXPECT_GT(with, 0);
+}
+
+TEST(OivCompactness, ClassZeroChangesNothingAndTheRangeIsNamed) {
+  const BunchParams p = preset("summer-black");
+  EXPECT_EQ(bunch_param_table().to_json(oiv_compactness_params(p)).dump(), bunch_param_table().to_json(p).dump());
+  BunchParams q = p;
+  try {
+    set_bunch_param(q, "oiv_compactness", "10");
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("oiv_compactness"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("[0, 9]"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Params, OutOfRangeAndCrossFieldErrorsNameTheKey) {

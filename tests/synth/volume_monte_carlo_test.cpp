@@ -29,16 +29,25 @@ void expect_agrees(const Bunch& b, std::uint64_t seed, const char* label) {
 struct Case {
   std::string preset;
   double compactness;
+  int oiv = 0;  // OIV 204 class; 0 = the continuous compactness above
+  bool wing = false;
 };
-void PrintTo(const Case& c, std::ostream* os) { *os << c.preset << " compactness " << c.compactness; }
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.preset << " compactness " << c.compactness << " oiv " << c.oiv << (c.wing ? " winged" : "");
+}
 
 class PresetVolume : public ::testing::TestWithParam<Case> {};
 
 TEST_P(PresetVolume, AnalyticMatchesMonteCarlo) {
   BunchParams p = preset(GetParam().preset);
   p.compactness = GetParam().compactness;
+  p.oiv_compactness = GetParam().oiv;
+  p.wing_probability = GetParam().wing ? 1 : 0;
   const Bunch b = generate_bunch(p, 42);
-  const std::string label = GetParam().preset + " c=" + std::to_string(GetParam().compactness).substr(0, 4);
+  ASSERT_EQ(b.wing >= 0, GetParam().wing);
+  const std::string label = GetParam().preset + (GetParam().oiv ? " OIV " + std::to_string(GetParam().oiv)
+                                                                 : " c=" + std::to_string(GetParam().compactness).substr(0, 4)) +
+                            (GetParam().wing ? " winged" : "");
   expect_agrees(b, 1234, label.c_str());
 }
 
@@ -46,9 +55,13 @@ INSTANTIATE_TEST_SUITE_P(AllPresets, PresetVolume,
                          ::testing::Values(Case{"table-red", 0.15}, Case{"table-red", 0.95},
                                            Case{"wine-red", 0.15}, Case{"wine-red", 0.95},
                                            Case{"summer-black", 0.15}, Case{"summer-black", 0.95},
-                                           Case{"green-table", 0.15}, Case{"green-table", 0.95}),
+                                           Case{"green-table", 0.15}, Case{"green-table", 0.95},
+                                           Case{"table-red", 0, 1, true}, Case{"table-red", 0, 9, true},
+                                           Case{"wine-red", 0, 9}),
                          [](const auto& param_info) {
-                           std::string n = param_info.param.preset + (param_info.param.compactness < 0.5 ? "_loose" : "_compact");
+                           std::string n = param_info.param.preset + (param_info.param.oiv ? "_oiv" + std::to_string(param_info.param.oiv)
+                                                                      : param_info.param.compactness < 0.5 ? "_loose" : "_compact") +
+                                           (param_info.param.wing ? "_winged" : "");
                            for (auto& c : n) c = c == '-' ? '_' : c;
                            return n;
                          });
