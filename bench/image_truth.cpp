@@ -117,8 +117,9 @@ std::vector<PixelLabel> label_pixels(const LabelScene& ls, const CaseScene& cs, 
           case Part::Rachis:
           case Part::Peduncle: {
             p.bunch = bunch_of(cs.bunches, h.primitive, true);
-            const bool stalk = h.part == Part::Peduncle ||
-                               (h.part == Part::Rachis && h.point.z() > cs.bunches[static_cast<std::size_t>(p.bunch)].branch_z);
+            const CaseBunch& cb = cs.bunches[static_cast<std::size_t>(p.bunch)];
+            const bool stalk = h.part == Part::Peduncle || (h.part == Part::Rachis && h.point.z() > cb.branch_z &&
+                                                            !on_wing(cb.original, h.primitive - cb.stem0));
             p.fine = stalk ? code(kStalk, p.bunch) : code(kBunch, p.bunch);
             break;
           }
@@ -308,8 +309,8 @@ ImageTruth image_truth(const LabelScene& ls, const CaseScene& cs, const Camera& 
       std::vector<const Stem*> pieces;
       for (std::size_t s = 0; s < b.original.stems.size(); ++s) {
         const Stem& st = cs.scene_bunch.stems[static_cast<std::size_t>(b.stem0) + s];
-        const bool take = st.part == Part::Peduncle ||
-                          (st.part == Part::Rachis && std::max(st.start.z(), st.end.z()) > b.branch_z);
+        const bool take = st.part == Part::Peduncle || (st.part == Part::Rachis && std::max(st.start.z(), st.end.z()) > b.branch_z &&
+                                                        !on_wing(b.original, static_cast<int>(s)));
         if (!take) continue;
         pieces.push_back(&st);
         add_ball(hull, st.start, st.radius), add_ball(hull, st.end, st.radius);

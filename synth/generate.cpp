@@ -215,14 +215,16 @@ class BunchBuilder {
       const Vec3 d(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), -std::cos(alpha));
       Stem arm{at * up, at * up + length * d, p.rachis_radius_bottom, Part::Rachis};
       arm.parent = bunch.peduncle;
-      if (!clear_of_stems(arm)) continue;
+      // check_bunch's rule: the base disc inside the peduncle, clear of its ends.
+      const double base = arm.radius * std::sqrt(std::max(0.0, 1 - std::pow(d.dot(up), 2)));
+      if (at + p.rachis_radius_top < base || at > p.peduncle_length - base || !clear_of_stems(arm)) continue;
       bunch.wing = static_cast<int>(bunch.stems.size());
       bunch.stems.push_back(arm);
       Vec3 e1, e2;
       perpendicular_basis(d, e1, e2);
       const double phi0 = wr.uniform(0, 2 * M_PI);
       int k = 0;
-      for (double h = 0.3 * length; h <= length - 0.5 * p.branch_spacing; h += p.branch_spacing, ++k) {
+      for (double h = 0.3 * length; h <= length - 0.5 * p.branch_spacing - p.branch_radius; h += p.branch_spacing, ++k) {
         const double f = (h - 0.3 * length) / (0.7 * length);
         const double len = std::max(p.branch_length_bottom, (0.35 - 0.2 * f) * length) * wr.uniform(0.9, 1.1);
         const double beta = (p.branch_angle + wr.uniform(-5, 5)) * kDeg, psi = phi0 + k * 137.508 * kDeg;
@@ -238,7 +240,7 @@ class BunchBuilder {
         if (t1 > t0) carriers.push_back({idx, t0, t1, true});
       }
       const double t1 = length - 1.5 * p.pedicel_radius, t0 = std::max(0.8 * length, t1 - p.branch_spacing);
-      carriers.push_back({bunch.wing, t0, t1, true});
+      if (t1 > t0) carriers.push_back({bunch.wing, t0, t1, true});
       return;
     }
   }
@@ -266,6 +268,7 @@ class BunchBuilder {
         if (carriers[c].wing == wing) weight[c] = carriers[c].t1 - carriers[c].t0;
       }
       const double wsum = std::accumulate(weight.begin(), weight.end(), 0.0);
+      if (total > 0 && wsum <= 0) removed += total;  // no carrier to take them: reported as dropped
       if (total == 0 || wsum <= 0) continue;
       std::vector<std::pair<double, int>> remainder;
       int assigned = 0;
@@ -532,6 +535,16 @@ std::vector<std::string> check_bunch(const Bunch& b) {
     }
   }
   return out;
+}
+
+bool on_wing(const Bunch& b, int index) {
+  if (b.wing < 0) return false;
+  // Parents come before their children, so the walk ends within stems.size() steps.
+  for (std::size_t steps = 0; index >= 0 && steps <= b.stems.size(); ++steps) {
+    if (index == b.wing) return true;
+    index = b.stems[static_cast<std::size_t>(index)].parent;
+  }
+  return false;
 }
 
 double max_press_ratio(const Bunch& b) {

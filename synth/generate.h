@@ -36,6 +36,10 @@ Bunch generate_bunch(const BunchParams& params, std::uint64_t seed,
 // Berries may overlap each other in any pattern.
 std::vector<std::string> check_bunch(const Bunch& bunch);
 
+// True when stem `index` is the bunch's wing or hangs from it (its side branches and
+// their pedicels): part of the bunch, never of the stalk above the first branch.
+bool on_wing(const Bunch& bunch, int index);
+
 // Largest overlap depth of two berries divided by the smaller radius.
 double max_press_ratio(const Bunch& bunch);
 

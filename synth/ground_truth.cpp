@@ -10,6 +10,7 @@
 
 #include "synth/ball_union.h"
 #include "synth/config.h"
+#include "synth/generate.h"
 #include "synth/stem_geometry.h"
 
 namespace grapebench {
@@ -229,9 +230,10 @@ GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
     const Berry& a = bunch.berries[i];
     for (std::size_t j = i + 1; j < bunch.berries.size(); ++j) {
       const Berry& b = bunch.berries[j];
+      // Touching counts: the packing leaves berries at contact to within rounding.
       const double depth = a.radius + b.radius - (a.centre - b.centre).norm();
-      if (depth <= 0) continue;
-      const double ratio = depth / std::min(a.radius, b.radius);
+      if (depth <= -1e-9 * std::min(a.radius, b.radius)) continue;
+      const double ratio = std::max(0.0, depth) / std::min(a.radius, b.radius);
       ++g.contact_pairs;
       depth_sum += ratio;
       g.contact_depth_max = std::max(g.contact_depth_max, ratio);
@@ -273,10 +275,7 @@ GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
   }
   if (bunch.wing >= 0 && !bunch.berries.empty()) {
     int on_wing = 0;
-    for (const auto& b : bunch.berries) {
-      const int carrier = bunch.stems[b.pedicel].parent;
-      on_wing += carrier == bunch.wing || bunch.stems[carrier].parent == bunch.wing;
-    }
+    for (const auto& b : bunch.berries) on_wing += b.pedicel >= 0 && grapebench::on_wing(bunch, b.pedicel);
     g.wing_berry_share = static_cast<double>(on_wing) / bunch.berries.size();
   }
 

@@ -65,7 +65,8 @@ struct GroundTruth {
   double envelope_upper = 0;
   double compactness = 0;  // solid / envelope
   // Berry contacts (OIV 204's classes 7-9 have berries pressed into each other). Two
-  // berries are in contact where their balls overlap; each berry's solid is its ball
+  // berries are in contact where their balls touch (to 1e-9 of the smaller radius) or
+  // overlap; each berry's solid is its ball
   // cut by the radical plane (the power cell), so a contact is a flat disc. Depth is
   // the overlap r_i + r_j - |c_i - c_j| over the smaller radius.
   int contact_pairs = 0;

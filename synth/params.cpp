@@ -31,12 +31,13 @@ const ParamTable<BunchParams>& bunch_param_table() {
       .real("max_press_depth", "-", &P::max_press_depth, 0, 0.3,
             "largest overlap depth of two pressed berries over the smaller radius, at compactness 1")
       .real("pull_strength", "1/step", &P::pull_strength, 0, 0.1,
-            "share of a berry's horizontal distance to the axis pulled in per packing step at compactness 1, "
-            "fading to 0 (0.015 keeps every preset's drop rate at 0.2-5 %, docs/synth.md)")
+            "share of a berry's horizontal distance to the axis (a wing's berries: to the wing's axis) pulled in "
+            "per packing step at compactness 1, fading to 0 (0.015 keeps every preset's drop rate at 0.2-5 %, "
+            "docs/synth.md)")
       .integer("oiv_compactness", "class", &P::oiv_compactness, 0, 9,
                "OIV 204 bunch compactness class, 1 very loose .. 9 very dense (berries pressed flat); 0 = off. "
-               "Sets compactness, pull_strength, max_press_depth, pedicel_stretch and scales the berry count, "
-               "branch and pedicel lengths: the drivers of Tello et al. 2015 (docs/synth.md)")
+               "Overrides compactness, pull_strength, max_press_depth and pedicel_stretch given beside it, and "
+               "scales the berry count, branch and pedicel lengths: the drivers of Tello et al. 2015 (docs/synth.md)")
       .real("rachis_length_min", "m", &P::rachis_length_min, 0.03, 0.4,
             "shortest main rachis (uniform in [min, max])")
       .real("rachis_length_max", "m", &P::rachis_length_max, 0.03, 0.4,

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "bench/protocols/capture.h"
+#include "synth/generate.h"
 
 namespace grapebench {
 
@@ -19,8 +20,12 @@ EstimatorInput stereo_input(const ScanView& view) {
 
 double first_branch_height(const Bunch& bunch) {
   double z = -std::numeric_limits<double>::infinity();
-  for (const Stem& s : bunch.stems) {
-    const bool branch = s.part != Part::Peduncle && s.parent >= 0 && bunch.stems[s.parent].part == Part::Rachis;
+  for (std::size_t i = 0; i < bunch.stems.size(); ++i) {
+    const Stem& s = bunch.stems[i];
+    // A branch of the main rachis: not a pedicel, not on the wing (whose side branches
+    // leave it near the peduncle, above the body's first branch).
+    const bool branch = s.part == Part::Rachis && s.parent >= 0 && bunch.stems[s.parent].part == Part::Rachis &&
+                        !on_wing(bunch, static_cast<int>(i));
     if (branch) z = std::max(z, s.start.z());
   }
   return z;

@@ -39,7 +39,8 @@ TEST_P(EveryPreset, EveryOivClassAndWingKeepsOnlyTheContactsTheFormulaAccountsFo
     p.wing_probability = oiv == 5 ? 0 : 1;
     const BunchParams q = oiv_compactness_params(p);
     for (std::uint64_t seed = 0; seed < 2; ++seed) {
-      const Bunch b = generate_bunch(p, seed);
+      const Bunch b = generate_bunch(p, seed);  // throws when check_bunch finds a contact
+      EXPECT_EQ(b.wing >= 0, p.wing_probability == 1) << GetParam() << " class " << oiv << " seed " << seed;
       const auto problems = check_bunch(b);
       EXPECT_TRUE(problems.empty()) << GetParam() << " class " << oiv << " seed " << seed << ": " << problems.front();
       EXPECT_LE(max_press_ratio(b), q.compactness * q.max_press_depth * (1 + 1e-6) + 1e-9);
@@ -119,7 +120,7 @@ TEST(GroundTruth, DimensionsAndEnvelopeAreConsistent) {
 
 // OIV 204: solid / hull rises with the class; class 9 is denser than the continuous
 // key's densest setting (compactness 1) and its berries are pressed (docs/synth.md,
-// 8 table-red bunches: class 1 0.199, 5 0.339, 9 0.457, compactness 1 0.386).
+// 16 table-red bunches: class 1 0.197, 5 0.339, 9 0.455, compactness 1 0.384).
 TEST(OivCompactness, DensityRisesWithTheClassAndClassNineIsPressed) {
   struct Mean {
     double solid_over_hull = 0, in_contact = 0, depth = 0;
@@ -149,7 +150,7 @@ TEST(OivCompactness, DensityRisesWithTheClassAndClassNineIsPressed) {
   EXPECT_GT(c9.solid_over_hull, densest_before.solid_over_hull + 0.03);
   EXPECT_GT(c9.depth, 0.2);  // contacts flattened to a fifth of the radius and more
   EXPECT_GT(c9.in_contact, 0.95);
-  EXPECT_LT(c1.in_contact, 0.7);  // very loose: many berries hang free
+  EXPECT_LT(c1.in_contact, 0.9);  // very loose: 29 % of the berries touch none (docs/synth.md)
   EXPECT_LT(c1.depth, 1e-6);  // touching at most: class 1 presses nothing
 }
 
@@ -167,11 +168,11 @@ TEST(Wing, CarriesItsShareAndBreaksTheRoundness) {
     const Bunch winged = generate_bunch(p, 424242 + seed);
     ASSERT_GE(winged.wing, 0);
     const GroundTruth g = compute_ground_truth(winged, p.density);
-    EXPECT_GT(g.wing_berry_share, 0.5 * p.wing_share);  // the body drops more berries than the wing
+    EXPECT_NEAR(g.wing_berry_share, p.wing_share, 0.06);  // the body drops more berries than the wing
     share += g.wing_berry_share / 4;
     ratio_with += g.horizontal_extent_ratio / 4;
   }
-  EXPECT_NEAR(share, p.wing_share, 0.04);
+  EXPECT_NEAR(share, p.wing_share, 0.03);
   EXPECT_LT(ratio_with, ratio_without - 0.05);
 }
 
