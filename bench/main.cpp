@@ -176,6 +176,10 @@ Command synth_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
       ->check(CLI::Range(0, 6))->capture_default_str();
   synth->add_option("--tube-sides", o->opt.mesh.tube_sides, "Sides of stem tubes")
       ->check(CLI::Range(3, 256))->capture_default_str();
+  synth->add_option("--alpha-wrap", o->opt.alpha_wrap,
+                    "Also a tight envelope: CGAL's alpha wrap of each bunch with this carving radius, m "
+                    "in [0.0005, 0.05] (0.01: about a berry's radius; 0 = off)")
+      ->check(CLI::Range(0.0, 0.05));
   synth->add_option("--threads", o->opt.threads, "Worker threads (0 = all cores); outputs do not depend on it")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   synth->footer(parameter_help());

@@ -19,6 +19,7 @@ struct SynthOptions {
   MeshOptions mesh;
   int threads = 0;  // 0: all cores
   Verbosity verbosity = Verbosity::normal;
+  double alpha_wrap = 0;  // m: also the alpha wrap of each bunch with this carving radius; 0: not
 };
 
 struct SynthResult {

@@ -64,7 +64,14 @@ float clamp01(double v) { return static_cast<float>(std::clamp(v, 0.0, 1.0)); }
 // order (size, peduncle, rachis, branches, berries), so a seed gives one bunch.
 class BunchBuilder {
  public:
-  BunchBuilder(const BunchParams& params, std::uint64_t seed) : p(params), rng(seed), seed_(seed) {}
+  // `wall`: a flat side's outward unit normal (horizontal) and distance from the axis, m;
+  // distance 0 for none.
+  BunchBuilder(const BunchParams& params, std::uint64_t seed, const Vec3& wall_normal = Vec3::Zero(),
+               double wall_distance = 0)
+      : p(params), rng(seed), seed_(seed) {
+    bunch.flat_side_normal = wall_normal;
+    bunch.flat_side_distance = wall_distance;
+  }
 
   Bunch build(GenerationReport* report) {
     bunch.stem_colour = p.stem_colour;
@@ -116,6 +123,23 @@ class BunchBuilder {
     L = p.rachis_length_min + size * (p.rachis_length_max - p.rachis_length_min);
     branch_scale = 0.85 + 0.3 * size;
   }
+
+  bool flat() const { return bunch.flat_side_distance > 0; }
+  // A branch growing towards a flat side's wall turns away from it about the rachis,
+  // just enough that its end stays a berry's room short of the wall (along the wall at
+  // most): the cane deflects it, the bunch spreads sideways. `horizontal` is the
+  // branch's horizontal length, m; returns its azimuth, rad.
+  double turned_from_wall(double phi, double horizontal) const {
+    const Vec3& n = bunch.flat_side_normal;
+    const double wall_phi = std::atan2(n.y(), n.x());
+    const double rel = std::remainder(phi - wall_phi, 2 * M_PI);
+    const double room = bunch.flat_side_distance - berry_room();
+    if (horizontal <= 0 || horizontal * std::cos(rel) <= room) return phi;
+    const double least = std::acos(std::clamp(room / horizontal, 0.0, 1.0));
+    return wall_phi + (rel >= 0 ? least : -least);
+  }
+  // What a berry needs beyond its anchor: a pedicel and a diameter.
+  double berry_room() const { return p.pedicel_length_mean + 2 * p.berry_radius_mean; }
 
   // The peduncle: the rachis top J = origin lies on its axis.
   void add_peduncle() {
@@ -170,8 +194,9 @@ class BunchBuilder {
       const Vec3 a(0, 0, -heights[k]);
       // A branch that would touch another stem is drawn again, then left out.
       for (int attempt = 0; attempt < 8; ++attempt) {
-        const double phi = phi0 + k * 137.508 * kDeg + rng.uniform(-15, 15) * kDeg + attempt * 0.9;
+        double phi = phi0 + k * 137.508 * kDeg + rng.uniform(-15, 15) * kDeg + attempt * 0.9;
         const double alpha = (p.branch_angle + rng.uniform(-5, 5) + 2 * attempt) * kDeg;
+        if (flat()) phi = turned_from_wall(phi, len * std::sin(alpha));
         const Vec3 d(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), -std::cos(alpha));
         Stem br{a, a + len * d, p.branch_radius, Part::Rachis};
         br.parent = segment[k];
@@ -179,13 +204,19 @@ class BunchBuilder {
         const int idx = static_cast<int>(bunch.stems.size());
         bunch.stems.push_back(br);
         ++branches;
-        const double reach_out =
-            (bunch.stems[segment[k]].radius + p.pedicel_radius) / std::sin(alpha) + 2 * p.pedicel_radius;
-        const double t0 = std::max(0.3 * len, reach_out), t1 = len - 1.5 * p.pedicel_radius;
-        if (t1 > t0) carriers.push_back({idx, t0, t1});
+        add_carrier(idx, len, bunch.stems[segment[k]].radius, alpha, false);
         break;
       }
     }
+  }
+
+  // A side branch of length `len` leaving a parent of `parent_radius` at `angle` (rad)
+  // carries berries on its outer part: from where a pedicel clears the parent (and at
+  // least 0.3 of the way out) to its end.
+  void add_carrier(int stem, double len, double parent_radius, double angle, bool wing) {
+    const double reach_out = (parent_radius + p.pedicel_radius) / std::sin(angle) + 2 * p.pedicel_radius;
+    const double t0 = std::max(0.3 * len, reach_out), t1 = len - 1.5 * p.pedicel_radius;
+    if (t1 > t0) carriers.push_back({stem, t0, t1, wing});
   }
 
   // True when `st` keeps clear of every stem but its parent.
@@ -233,11 +264,8 @@ class BunchBuilder {
         Stem br{a, a + len * dir, p.branch_radius, Part::Rachis};
         br.parent = bunch.wing;
         if (!clear_of_stems(br)) continue;
-        const int idx = static_cast<int>(bunch.stems.size());
         bunch.stems.push_back(br);
-        const double reach_out = (arm.radius + p.pedicel_radius) / std::sin(beta) + 2 * p.pedicel_radius;
-        const double t0 = std::max(0.3 * len, reach_out), t1 = len - 1.5 * p.pedicel_radius;
-        if (t1 > t0) carriers.push_back({idx, t0, t1, true});
+        add_carrier(static_cast<int>(bunch.stems.size()) - 1, len, arm.radius, beta, true);
       }
       const double t1 = length - 1.5 * p.pedicel_radius, t0 = std::max(0.8 * length, t1 - p.branch_spacing);
       if (t1 > t0) carriers.push_back({bunch.wing, t0, t1, true});
@@ -393,6 +421,11 @@ class BunchBuilder {
       s.centre += 0.5 * push;
       if (t > 0.05) o.centre -= 0.5 * push / t;
     }
+    // The main body stays behind a flat side's wall (a wing hangs apart from it).
+    if (flat() && !s.on_wing) {
+      const double beyond = s.centre.dot(bunch.flat_side_normal) + s.radius - bunch.flat_side_distance;
+      if (beyond > 0) s.centre -= beyond * bunch.flat_side_normal;
+    }
     enforce_rod(s, carrier_axis[i], min_pedicel_angle, settle ? 0.0 : 0.05);
   }
 
@@ -479,6 +512,22 @@ Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport*
   validate_bunch_params(p, "bunch parameters");
   const BunchParams q = oiv_compactness_params(p);
   if (p.oiv_compactness != 0) validate_bunch_params(q, "bunch parameters of oiv_compactness " + std::to_string(p.oiv_compactness));
+  // A flat side, drawn from its own stream (as the wing), so a bunch without one is the
+  // bunch its seed gives at probability 0. Its wall cuts `flat_side_depth` off the
+  // round bunch's reach towards it: the same bunch packed without the wall first.
+  if (q.flat_side_probability > 0) {
+    Rng fr(derive_seed(seed, 0xf1a7));
+    if (fr.uniform(0, 1) < q.flat_side_probability) {
+      const double phi = fr.uniform(0, 2 * M_PI);
+      const Vec3 normal(std::cos(phi), std::sin(phi), 0);
+      const Bunch round = BunchBuilder(q, seed).build(nullptr);
+      double reach = 0;
+      for (const Berry& b : round.berries) {
+        if (!on_wing(round, b.pedicel)) reach = std::max(reach, b.centre.dot(normal) + b.radius);
+      }
+      if (reach > 0) return BunchBuilder(q, seed, normal, (1 - q.flat_side_depth) * reach).build(report);
+    }
+  }
   return BunchBuilder(q, seed).build(report);
 }
 
@@ -545,18 +594,6 @@ bool on_wing(const Bunch& b, int index) {
     index = b.stems[static_cast<std::size_t>(index)].parent;
   }
   return false;
-}
-
-double max_press_ratio(const Bunch& b) {
-  double worst = 0;
-  for (std::size_t i = 0; i < b.berries.size(); ++i) {
-    for (std::size_t j = 0; j < i; ++j) {
-      const auto &x = b.berries[i], &y = b.berries[j];
-      const double depth = x.radius + y.radius - (x.centre - y.centre).norm();
-      worst = std::max(worst, depth / std::min(x.radius, y.radius));
-    }
-  }
-  return worst;
 }
 
 std::string_view part_name(Part p) {

@@ -20,8 +20,9 @@ struct GenerationReport {
 // Builds one bunch: peduncle, a straight tapering rachis of stacked segments, lateral
 // branches shortening down the bunch, pedicels and berries packed against that tree
 // by a position-based relaxation (gravity, pull towards the axis for compact
-// bunches, bounded pressing between berries). Every contact that the volume formula
-// does not account for is removed, so check_bunch() holds for the result.
+// bunches, bounded pressing between berries), with a wing and a flat side (a wall the
+// body is packed against) when their probabilities draw them. Every contact that the
+// volume formula does not account for is removed, so check_bunch() holds for the result.
 // Same (params, seed) gives the same bunch bit for bit.
 Bunch generate_bunch(const BunchParams& params, std::uint64_t seed,
                      GenerationReport* report = nullptr);
@@ -39,8 +40,5 @@ std::vector<std::string> check_bunch(const Bunch& bunch);
 // True when stem `index` is the bunch's wing or hangs from it (its side branches and
 // their pedicels): part of the bunch, never of the stalk above the first branch.
 bool on_wing(const Bunch& bunch, int index);
-
-// Largest overlap depth of two berries divided by the smaller radius.
-double max_press_ratio(const Bunch& bunch);
 
 }  // namespace grapebench

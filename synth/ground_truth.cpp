@@ -133,6 +133,32 @@ double section_girth(const Bunch& bunch, const Eigen::Matrix3d& axes, int k, dou
 
 }  // namespace
 
+BerryContacts berry_contacts(const Bunch& bunch) {
+  // All pairs (n <= 1000 berries: at most 5e5 distance tests).
+  BerryContacts c;
+  std::vector<char> touched(bunch.berries.size(), 0);
+  double depth_sum = 0;
+  for (std::size_t i = 0; i < bunch.berries.size(); ++i) {
+    const Berry& a = bunch.berries[i];
+    for (std::size_t j = i + 1; j < bunch.berries.size(); ++j) {
+      const Berry& b = bunch.berries[j];
+      // Touching counts: the packing leaves berries at contact to within rounding.
+      const double depth = a.radius + b.radius - (a.centre - b.centre).norm();
+      if (depth <= -1e-9 * std::min(a.radius, b.radius)) continue;
+      const double ratio = std::max(0.0, depth) / std::min(a.radius, b.radius);
+      ++c.pairs;
+      depth_sum += ratio;
+      c.depth_max = std::max(c.depth_max, ratio);
+      touched[i] = touched[j] = 1;
+    }
+  }
+  if (!bunch.berries.empty()) {
+    c.share_in_contact = static_cast<double>(std::count(touched.begin(), touched.end(), 1)) / bunch.berries.size();
+  }
+  if (c.pairs > 0) c.depth_mean = depth_sum / c.pairs;
+  return c;
+}
+
 GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
   if (bunch.berries.empty()) throw InputError("ground truth: the bunch has no berries");
   GroundTruth g;
@@ -223,27 +249,11 @@ GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
   g.envelope_volume = 0.5 * (g.envelope_lower + g.envelope_upper);
   g.compactness = g.volume.solid / g.envelope_volume;
 
-  // Berry contacts, all pairs (n <= 1000 berries: at most 5e5 distance tests).
-  std::vector<char> touched(bunch.berries.size(), 0);
-  double depth_sum = 0;
-  for (std::size_t i = 0; i < bunch.berries.size(); ++i) {
-    const Berry& a = bunch.berries[i];
-    for (std::size_t j = i + 1; j < bunch.berries.size(); ++j) {
-      const Berry& b = bunch.berries[j];
-      // Touching counts: the packing leaves berries at contact to within rounding.
-      const double depth = a.radius + b.radius - (a.centre - b.centre).norm();
-      if (depth <= -1e-9 * std::min(a.radius, b.radius)) continue;
-      const double ratio = std::max(0.0, depth) / std::min(a.radius, b.radius);
-      ++g.contact_pairs;
-      depth_sum += ratio;
-      g.contact_depth_max = std::max(g.contact_depth_max, ratio);
-      touched[i] = touched[j] = 1;
-    }
-  }
-  if (!bunch.berries.empty()) {
-    g.berries_in_contact = static_cast<double>(std::count(touched.begin(), touched.end(), 1)) / bunch.berries.size();
-  }
-  if (g.contact_pairs > 0) g.contact_depth_mean = depth_sum / g.contact_pairs;
+  const BerryContacts contacts = berry_contacts(bunch);
+  g.contact_pairs = contacts.pairs;
+  g.berries_in_contact = contacts.share_in_contact;
+  g.contact_depth_mean = contacts.depth_mean;
+  g.contact_depth_max = contacts.depth_max;
 
   // Asymmetry: horizontal principal axes of the berries (weights r^3, as the PCA frame).
   if (bunch.berries.size() >= 2) {

@@ -64,6 +64,10 @@ struct GroundTruth {
   double envelope_lower = 0;
   double envelope_upper = 0;
   double compactness = 0;  // solid / envelope
+  // A tight envelope, only when asked for (grapebench synth --alpha-wrap): the alpha
+  // wrap's volume (synth/alpha_wrap_envelope.h) and its carving radius, m3 and m; 0: none.
+  double alpha_wrap_volume = 0;
+  double alpha_wrap_alpha = 0;
   // Berry contacts (OIV 204's classes 7-9 have berries pressed into each other). Two
   // berries are in contact where their balls touch (to 1e-9 of the smaller radius) or
   // overlap; each berry's solid is its ball
@@ -84,6 +88,16 @@ struct GroundTruth {
 };
 
 VolumeTerms solid_volume_terms(const Bunch& bunch);
+
+// The berry contacts of GroundTruth (its contact_* fields), alone: the generator's
+// tests check the pressing bound with them.
+struct BerryContacts {
+  int pairs = 0;
+  double share_in_contact = 0;  // of the berries
+  double depth_mean = 0, depth_max = 0;  // overlap over the smaller radius
+};
+BerryContacts berry_contacts(const Bunch& bunch);
+
 GroundTruth compute_ground_truth(const Bunch& bunch, double density_g_cm3);
 
 // Convex hull of points (CGAL quickhull, after dropping the points strictly inside the

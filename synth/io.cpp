@@ -125,6 +125,12 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g, c
                    {"lower_bound_m3", g.envelope_lower},
                    {"upper_bound_m3", g.envelope_upper}};
   j["compactness"] = g.compactness;
+  if (g.alpha_wrap_alpha > 0) {
+    j["alpha_wrap"] = {{"definition", "CGAL alpha wrap of the bunch's mesh, less its offset times its area"},
+                       {"alpha_m", g.alpha_wrap_alpha},
+                       {"volume_m3", g.alpha_wrap_volume},
+                       {"solid_over_wrap", g.volume.solid / g.alpha_wrap_volume}};
+  }
   j["berry_contacts"] = {{"definition", "pairs of overlapping berries; depth = overlap over the smaller radius"},
                          {"pairs", g.contact_pairs},
                          {"share_of_berries", g.berries_in_contact},
@@ -133,7 +139,9 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g, c
   j["asymmetry"] = {{"horizontal_extent_ratio", g.horizontal_extent_ratio},
                     {"definition", "berries' extents along their two horizontal principal axes, minor / major"},
                     {"wing_stem", b.wing},
-                    {"wing_berry_share", g.wing_berry_share}};
+                    {"wing_berry_share", g.wing_berry_share},
+                    {"flat_side_distance_m", b.flat_side_distance},
+                    {"flat_side_normal", vec(b.flat_side_normal)}};
   j["cutting_point_m"] = vec(g.cutting_point);
   j["peduncle_direction"] = vec(g.peduncle_direction);
   j["bbox_m"] = {{"min", vec(g.bbox_min)}, {"max", vec(g.bbox_max)}};

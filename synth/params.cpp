@@ -83,6 +83,14 @@ const ParamTable<BunchParams>& bunch_param_table() {
       .real("wing_length", "m", &P::wing_length, 0.02, 0.2,
             "length of the wing's axis, drawn within +-15 % (a choice: 0.1 m reaches past table-red's top "
             "branches, so the wing stands apart from the body)")
+      .real("flat_side_probability", "-", &P::flat_side_probability, 0, 1,
+            "chance a bunch has a flat side: it grew pressed against a cane or wire, a vertical wall its "
+            "body's berries and branches stay behind (no published frequency was found: 0 by default); drawn "
+            "from its own stream, so a bunch without one is the one its seed gives at 0")
+      .real("flat_side_depth", "-", &P::flat_side_depth, 0.05, 0.6,
+            "how much the flat side cuts off: at a random azimuth, the wall stands at (1 - depth) of the round "
+            "bunch's reach that way (the same seed packed without the wall, which doubles the bunch's "
+            "generation time) from the rachis axis (0.3 is a choice; no published measure was found)")
       .rgb("berry_colour", &P::berry_colour, "mean berry colour")
       .real("colour_variation", "-", &P::colour_variation, 0, 0.3,
             "sd of the per-berry colour jitter")

@@ -66,6 +66,11 @@ struct Bunch {
   // A wing: a lateral arm from the peduncle, apart from the main body (Tarter & Poni
   // 2010), carrying its own branches and berries; index of its axis stem, -1 for none.
   int wing = -1;
+  // A flat side: a vertical wall (a cane's) the main body's berries were packed against,
+  // at `flat_side_distance` m from the rachis axis along the horizontal unit
+  // `flat_side_normal` (bunch frame); distance 0 for none.
+  Vec3 flat_side_normal = Vec3::Zero();
+  double flat_side_distance = 0;
   Rgb stem_colour{0.42f, 0.45f, 0.18f};          // peduncle, rachis and pedicels
 };
 
