@@ -179,7 +179,18 @@ Command synth_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   synth->add_option("--alpha-wrap", o->opt.alpha_wrap,
                     "Also a tight envelope: CGAL's alpha wrap of each bunch with this carving radius, m "
                     "in [0.0005, 0.05] (0.01: about a berry's radius; 0 = off)")
-      ->check(CLI::Range(0.0, 0.05));
+      ->check(
+          [](const std::string& text) -> std::string {
+            double v = -1;
+            try {
+              v = std::stod(text);
+            } catch (const std::exception&) {
+            }
+            if (v == 0 || (v >= 0.0005 && v <= 0.05)) return "";
+            return "--alpha-wrap: 0 (off) or a carving radius in [0.0005, 0.05] m, got " + text;
+          },
+          "0 or [0.0005, 0.05]")
+      ->capture_default_str();
   synth->add_option("--threads", o->opt.threads, "Worker threads (0 = all cores); outputs do not depend on it")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   synth->footer(parameter_help());

@@ -22,10 +22,12 @@ import sys
 def run(grapebench, preset, sets, count, seed, out, alpha):
     os.makedirs(out, exist_ok=True)
     cmd = [grapebench, "synth", "--preset", preset, "--count", str(count), "--seed", str(seed),
-           "--no-mesh", "--out", out, "--alpha-wrap", str(alpha)]
+           "--no-mesh", "--out", out]
+    if alpha > 0:
+        cmd += ["--alpha-wrap", str(alpha)]
     for s in sets:
         cmd += ["--set", s]
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
     with open(os.path.join(out, "summary.csv"), newline="") as f:
         return list(csv.DictReader(f))
 

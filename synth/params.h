@@ -57,7 +57,7 @@ struct BunchParams {
   double wing_length = 0.10;    // m, the wing's axis
   // Flat side: the bunch grew against a cane or wire (off by default).
   double flat_side_probability = 0;  // chance a bunch has one
-  double flat_side_depth = 0.3;      // share of the bunch's nominal radius cut off
+  double flat_side_depth = 0.3;      // share of the round bunch's reach towards the wall cut off
   // Appearance and mass.
   Rgb berry_colour{0.45f, 0.06f, 0.10f};
   double colour_variation = 0.08;  // sd of per-berry colour jitter

@@ -82,6 +82,12 @@ TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
   EXPECT_NE(r.out.find("unknown parameter 'nonsense'"), std::string::npos) << r.out;
   r = run_cli("synth " GRAPEBENCH_SOURCE_DIR "/CMakeLists.txt --out /tmp/grapebench_cli_test");
   EXPECT_NE(r.status, 0) << r.out;
+  // Before any bunch is generated, naming the option and its range (NaN included).
+  for (const char* alpha : {"0.0001", "nan", "0.2", "-1"}) {
+    r = run_cli(std::string("synth --alpha-wrap ") + alpha + " --no-mesh --out /tmp/grapebench_cli_test");
+    EXPECT_EQ(r.status, 2) << alpha << "\n" << r.out;
+    EXPECT_NE(r.out.find("--alpha-wrap: 0 (off) or a carving radius in [0.0005, 0.05] m"), std::string::npos) << r.out;
+  }
 }
 
 TEST(Cli, ScanWritesEveryFileOfEveryView) {

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <fstream>
 #include <sstream>
 
@@ -163,6 +165,35 @@ TEST(SynthRun, OutputsAreByteIdenticalAtAnyThreadCount) {
   for (const auto& e : std::filesystem::directory_iterator(one.out)) {
     EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "leftover temporary file";
   }
+  std::filesystem::remove_all(base);
+}
+
+// `synth --alpha-wrap`: the truth JSON's alpha_wrap block and summary.csv's column
+// carry the same wrap, tighter than the hull and looser than the solid; off, the
+// column is empty and the block absent.
+TEST(SynthRun, TheAlphaWrapReachesTheJsonAndTheSummary) {
+  const Scene s = parse_scene("seed: 5\nbunches:\n  - preset: wine-red\n    count: 1\n", "t.yaml");
+  const auto base = std::filesystem::temp_directory_path() / "grapebench_alpha_wrap_test";
+  std::filesystem::remove_all(base);
+  SynthOptions o;
+  o.out = base;
+  o.write_mesh = false;
+  o.alpha_wrap = 0.01;
+  const auto results = run_synth(bunch_jobs(s), o);
+  const GroundTruth& g = results.at(0).truth;
+  ASSERT_GT(g.alpha_wrap_volume, g.volume.solid);
+  EXPECT_LT(g.alpha_wrap_volume, g.envelope_volume);
+  const auto json = nlohmann::json::parse(slurp(base / "bunch_0000.json"));
+  EXPECT_EQ(json["alpha_wrap"]["alpha_m"].get<double>(), 0.01);
+  EXPECT_NEAR(json["alpha_wrap"]["volume_m3"].get<double>(), g.alpha_wrap_volume, 1e-15);
+  const std::string csv = slurp(base / "summary.csv");
+  const std::string last = csv.substr(csv.rfind(',', csv.size() - 2) + 1);
+  EXPECT_NEAR(std::stod(last), g.alpha_wrap_volume * 1e6, 1e-6 * g.alpha_wrap_volume * 1e6) << csv;
+  o.alpha_wrap = 0;
+  run_synth(bunch_jobs(s), o);
+  EXPECT_FALSE(nlohmann::json::parse(slurp(base / "bunch_0000.json")).contains("alpha_wrap"));
+  const std::string off = slurp(base / "summary.csv");
+  EXPECT_EQ(off.substr(off.size() - 2), ",\n") << off;
   std::filesystem::remove_all(base);
 }
 
