@@ -69,7 +69,9 @@ TEST(UnionMesh, VolumeConvergesToTheExactSolid) {
   const Bunch b = small_bunch("wine-red", 5, 40);
   const double exact = solid_volume_terms(b).solid;
   double coarse = 0, fine = 0;
-  for (int level = 0; level <= 3; ++level) {
+  // Levels 0-2 (measured 7.1e-4, 6.7e-5, 7.2e-6; level 3 3.1e-7 took 70 % of the
+  // test's time, 74 s under ASan).
+  for (int level = 0; level <= 2; ++level) {
     MeshOptions o;
     o.sphere_subdivisions = level;
     o.tube_sides = 6 << level;
@@ -78,8 +80,8 @@ TEST(UnionMesh, VolumeConvergesToTheExactSolid) {
     if (level == 0) coarse = err;
     fine = err;
   }
-  EXPECT_LT(fine, coarse / 4);
-  EXPECT_LT(fine, 1e-4);
+  EXPECT_LT(fine, coarse / 20);
+  EXPECT_LT(fine, 2e-5);
 }
 
 TEST(UnionMesh, FacesCarryTheirPartAndBerry) {
