@@ -8,20 +8,6 @@ namespace grapebench {
 
 namespace {
 
-ImageDetection region_detection(const ClusterRegion& r, double score) {
-  ImageDetection d;
-  d.category = "bunch";
-  d.score = score;
-  d.x = r.x0, d.y = r.y0, d.w = r.x1 - r.x0 + 1, d.h = r.y1 - r.y0 + 1;
-  d.mask_x = r.x0, d.mask_y = r.y0, d.mask_w = r.x1 - r.x0 + 1, d.mask_h = r.y1 - r.y0 + 1;
-  d.mask.resize(static_cast<std::size_t>(d.mask_w) * d.mask_h);
-  for (int y = 0; y < d.mask_h; ++y)
-    for (int x = 0; x < d.mask_w; ++x)
-      d.mask[static_cast<std::size_t>(y) * d.mask_w + x] =
-          r.mask[static_cast<std::size_t>(y + r.y0) * r.width + (x + r.x0)] ? 1 : 0;
-  return d;
-}
-
 // A berry's disc: the pixels whose centre lies within r of the circle's centre (OpenCV
 // pixel centres at integers), clipped to the image.
 ImageDetection berry_detection(const Detection& b, int width, int height) {
@@ -66,7 +52,7 @@ Estimate luo2016_instances(const EstimatorInput& input, const Luo2016InstancesPa
   const Luo2016Params system{p.segmentation, p.cutting_point, p.berries, p.matching};
   int berries = 0, volumes = 0;
   for (const ClusterRegion& r : regions) {
-    ImageDetection bunch = region_detection(r, r.area / total);
+    ImageDetection bunch = cluster_detection(r, r.area / total);
     double depth = p.depth;
     if (stereo) {
       // The paper's system on this region (its peduncle lies outside the region, above it).

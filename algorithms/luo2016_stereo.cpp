@@ -98,6 +98,20 @@ Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, con
   return r;
 }
 
+ImageDetection cluster_detection(const ClusterRegion& r, double score) {
+  ImageDetection d;
+  d.category = "bunch";
+  d.score = score;
+  d.x = r.x0, d.y = r.y0, d.w = r.x1 - r.x0 + 1, d.h = r.y1 - r.y0 + 1;
+  d.mask_x = r.x0, d.mask_y = r.y0, d.mask_w = r.x1 - r.x0 + 1, d.mask_h = r.y1 - r.y0 + 1;
+  d.mask.resize(static_cast<std::size_t>(d.mask_w) * d.mask_h);
+  for (int y = 0; y < d.mask_h; ++y)
+    for (int x = 0; x < d.mask_w; ++x)
+      d.mask[static_cast<std::size_t>(y) * d.mask_w + x] =
+          r.mask[static_cast<std::size_t>(y + r.y0) * r.width + (x + r.x0)] ? 1 : 0;
+  return d;
+}
+
 Estimate luo2016_estimate(const EstimatorInput& input, const Luo2016Params& p) {
   if (!input.stereo)
     throw InputError("luo2016_stereo: needs a stereo pair (protocol: stereo_pair, sensor: stereo_rgb)");
@@ -106,6 +120,9 @@ Estimate luo2016_estimate(const EstimatorInput& input, const Luo2016Params& p) {
   e.error = r.failure;
   if (r.cut.found() && r.cut_disparity > 0) e.points.emplace_back("cutting_point", r.cutting_point);
   e.detections = r.berries.berries;
+  // The cluster region the later stages stand on: the protocol scores it (cluster_iou,
+  // cluster_top_px), which is how a lost cutting point is traced to its stage.
+  if (r.region.found()) e.instances.push_back(cluster_detection(r.region, 1));
   if (r.ok()) {
     e.values = {{Quantity::HangingHeight, r.volume.height},
                 {Quantity::MaxDiameter, r.volume.max_diameter},

@@ -53,4 +53,8 @@ Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, con
 // Throws InputError when the input has no stereo pair.
 Estimate luo2016_estimate(const EstimatorInput& input, const Luo2016Params& p);
 
+// A cluster region as an image detection of category "bunch": its box and its mask
+// (the region's pixels, 0 / 1, on the box), with the given score.
+ImageDetection cluster_detection(const ClusterRegion& r, double score);
+
 }  // namespace grapebench

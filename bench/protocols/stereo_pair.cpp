@@ -46,6 +46,12 @@ StereoTruth stereo_truth(const ScanView& view, const Bunch& bunch, double visibl
       t.stalk[i] = 1;
     if (part == Part::Berry) ++seen[c.berry[i]];
   }
+  t.cluster.assign(c.size(), 0);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const auto part = static_cast<Part>(c.label[i]);
+    t.cluster[i] = (part == Part::Berry || part == Part::Pedicel || part == Part::Rachis) && !t.stalk[i];
+    if (part == Part::Berry && t.berry_top < 0) t.berry_top = static_cast<int>(i / c.width);
+  }
   const Intrinsics& k = view.camera.K;
   for (std::size_t b = 0; b < bunch.berries.size(); ++b) {
     const Vec3 p = view.camera.to_camera(bunch.berries[b].centre);
@@ -150,6 +156,38 @@ std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, 
   return rows;
 }
 
+std::vector<EstimateRow> cluster_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth) {
+  const ImageDetection* region = nullptr;
+  for (const ImageDetection& d : e.instances) {
+    if (d.category == "bunch" && (!region || d.score > region->score)) region = &d;
+  }
+  if (!region) return {};
+  const auto& d = *region;
+  if (d.mask.size() != static_cast<std::size_t>(d.mask_w) * static_cast<std::size_t>(std::max(d.mask_h, 0)))
+    throw InputError("stereo_pair: the estimator's bunch mask has " + std::to_string(d.mask.size()) + " values for a " +
+                     std::to_string(d.mask_w) + " x " + std::to_string(d.mask_h) + " box");
+  std::size_t both = 0, est = 0, tru = 0;
+  int top = -1;
+  for (int y = 0; y < d.mask_h; ++y) {
+    for (int x = 0; x < d.mask_w; ++x) {
+      if (!d.mask[static_cast<std::size_t>(y) * d.mask_w + x]) continue;
+      const int u = d.mask_x + x, v = d.mask_y + y;
+      if (u < 0 || v < 0 || u >= truth.width || v >= truth.height) continue;  // off the image: counts for neither
+      ++est;
+      if (top < 0) top = v;
+      both += truth.cluster[static_cast<std::size_t>(v) * truth.width + u];
+    }
+  }
+  for (const std::uint8_t c : truth.cluster) tru += c;
+  const std::size_t either = est + tru - both;
+  std::vector<EstimateRow> rows;
+  rows.push_back(row_of(base, "cluster_iou", either ? static_cast<double>(both) / either : 0, 1, either > 0,
+                        either ? "" : "neither the region nor the truth has a pixel"));
+  rows.push_back(row_of(base, "cluster_top_px", top, truth.berry_top, top >= 0 && truth.berry_top >= 0,
+                        top < 0 ? "empty region" : truth.berry_top < 0 ? "no berry in view" : ""));
+  return rows;
+}
+
 namespace {
 
 // The bounding volume against the other truths the paper's measures suggest: the
@@ -189,6 +227,7 @@ void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const
     const EstimateRow base = estimate_row(spec, t);
     for (EstimateRow& row : cutting_point_rows(base, t.estimate, view, truth, pl.cut_tolerance)) rows.push_back(row);
     for (EstimateRow& row : berry_rows(base, t.estimate, truth)) rows.push_back(row);
+    for (EstimateRow& row : cluster_rows(base, t.estimate, truth)) rows.push_back(row);
     for (EstimateRow& row : rows) {
       row.frame = static_cast<int>(k);
       row.roi = view.rig.name;

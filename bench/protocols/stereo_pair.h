@@ -23,6 +23,8 @@ EstimatorInput stereo_input(const ScanView& view);
 struct StereoTruth {
   int width = 0, height = 0;
   std::vector<std::uint8_t> stalk;   // H x W: 1 where the left label image sees the stalk
+  std::vector<std::uint8_t> cluster; // H x W: 1 on the cluster below the stalk (berries, pedicels, branches)
+  int berry_top = -1;                // topmost row a berry is seen in, px (-1: none)
   std::vector<TruthObject> berries;  // projected true berries (OpenCV pixels), visible per the fraction
   // The stalk's axis: peduncle and bare rachis, as segments in the left camera frame, m.
   std::vector<std::pair<Vec3, Vec3>> stalk_axis;
@@ -42,6 +44,12 @@ std::vector<EstimateRow> cutting_point_rows(const EstimateRow& base, const Estim
 // visible berries; seed 001 Table 1), berry_precision, berry_centre_error (px, mean
 // over the matched) and berry_radius_error (px, signed mean, detection - truth).
 std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth);
+
+// Rows of the cluster region an estimator stands on (its "bunch" instance; none when it
+// answers none): cluster_iou (its mask against the truth's cluster pixels) and
+// cluster_top_px (its top row; truth: the topmost berry row; negative error: the region
+// reaches above the berries, where the cutting point's ROI is placed).
+std::vector<EstimateRow> cluster_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth);
 
 // Every estimator on view k's pair; appends its rows to r.rows.
 void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const Bunch& bunch, const GroundTruth& gt,

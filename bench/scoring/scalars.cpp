@@ -81,6 +81,7 @@ constexpr Unit kUnits[] = {
     {"volume", "cm3", 1e6},        {"envelope_volume", "cm3", 1e6}, {"cut_success", "-", 1},
     {"berries_found", "count", 1}, {"berry_precision", "-", 1},     {"berry_centre_error", "px", 1},
     {"berry_radius_error", "px", 1}, {"berry_count", "count", 1},  {"instances", "count", 1},
+    {"cluster_iou", "-", 1},       {"cluster_top_px", "px", 1},
     // Seed 004's classification rows (fractions).
     {"accuracy", "-", 1},          {"miou", "-", 1},                {"berry_tpr", "-", 1},
     {"berry_fpr", "-", 1},

@@ -44,6 +44,17 @@ TEST(Luo2016Stereo, FindsTheCuttingPointBerriesAndBoundingVolumeOfAnAnalyticPair
   }
   EXPECT_GE(found, 0.8 * static_cast<double>(a.circles.size())) << e.notes;
 
+  // The cluster region, answered as one "bunch" instance: it holds every berry's centre.
+  ASSERT_EQ(e.instances.size(), 1u);
+  const ImageDetection& region = e.instances[0];
+  EXPECT_EQ(region.category, "bunch");
+  ASSERT_EQ(region.mask.size(), static_cast<std::size_t>(region.mask_w) * region.mask_h);
+  for (const Circle& c : a.circles) {
+    const int x = static_cast<int>(std::lround(c.x)) - region.mask_x, y = static_cast<int>(std::lround(c.y)) - region.mask_y;
+    ASSERT_TRUE(x >= 0 && y >= 0 && x < region.mask_w && y < region.mask_h) << c.x << ", " << c.y;
+    EXPECT_EQ(region.mask[static_cast<std::size_t>(y) * region.mask_w + x], 1);
+  }
+
   // Bounding volume: as revolved from the true cutting point and berry centres.
   const Vec3 true_cut((0.5 * (a.stalk_x0 + a.stalk_x1) - a.pair.cx) * a.stalk_depth / a.pair.fx, cut.y(),
                       a.stalk_depth);
