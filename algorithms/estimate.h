@@ -79,7 +79,7 @@ struct Estimate {
   std::vector<std::pair<Quantity, double>> values;   // scalars, SI units
   std::vector<std::pair<std::string, Vec3>> points;  // named 3D points, m, the input's frame ("cutting_point")
   std::vector<Detection> detections;                 // in the input image's pixels
-  std::vector<ImageDetection> instances;             // protocol detection: in the input (left) image
+  std::vector<ImageDetection> instances;             // protocols detection, stereo_pair ("bunch"): in the left image
   Eigen::MatrixXd class_scores;                      // N x K per-point class scores (or 0 x 0)
   bool watertight = false;                           // for volume methods with a mesh
   // Set when the scalars could not be made (the stage that failed); the other outputs

@@ -48,8 +48,9 @@ struct Luo2016Result {
 Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, const ClusterRegion* region = nullptr);
 
 // The system as an estimator: the point "cutting_point" (left camera frame, m) when it
-// was matched, the berry circles as detections, and the bounding volume's
-// hanging_height, max_diameter and volume; Estimate::error names the failed stage.
+// was matched, the berry circles as detections, its cluster region as one "bunch"
+// instance (mask) when it found one, and the bounding volume's hanging_height,
+// max_diameter and volume; Estimate::error names the failed stage.
 // Throws InputError when the input has no stereo pair.
 Estimate luo2016_estimate(const EstimatorInput& input, const Luo2016Params& p);
 

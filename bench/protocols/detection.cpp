@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "bench/image_truth.h"
+#include "bench/instance_mask.h"
 #include "bench/protocols/capture.h"
 #include "synth/ground_truth.h"
 #include "synth/rng.h"
@@ -27,11 +28,7 @@ std::vector<CocoObject> answer_objects(const std::vector<ImageDetection>& answer
     if (!std::isfinite(a.score)) throw InputError(where + ": score must be a finite number");
     if (!(std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.w) && std::isfinite(a.h)) || a.w < 0 || a.h < 0)
       throw InputError(where + ": box must be finite with width and height >= 0");
-    if (!a.mask.empty() &&
-        (a.mask_x < 0 || a.mask_y < 0 || a.mask_w <= 0 || a.mask_h <= 0 || a.mask_w > width - a.mask_x ||
-         a.mask_h > height - a.mask_y || a.mask.size() != static_cast<std::size_t>(a.mask_w) * a.mask_h))
-      throw InputError(where + ": mask must lie in the " + std::to_string(width) + " x " + std::to_string(height) +
-                       " image and hold mask_w x mask_h values");
+    Rle mask = instance_mask(a, width, height, where);  // checked even where dropped
     if (std::find(categories.begin(), categories.end(), a.category) == categories.end()) {
       ++dropped;
       continue;
@@ -41,28 +38,7 @@ std::vector<CocoObject> answer_objects(const std::vector<ImageDetection>& answer
     o.category_id = cat->id;
     o.score = a.score;
     o.bbox = {a.x, a.y, a.w, a.h};
-    if (!a.rle.empty()) {
-      try {
-        o.mask = rle_from_string(a.rle, height, width);
-      } catch (const std::exception& e) {
-        throw InputError(where + ": segmentation: " + e.what());
-      }
-    } else if (!a.mask.empty()) {
-      o.mask = rle_encode(a.mask.data(), a.mask_x, a.mask_y, a.mask_w, a.mask_h, width, height);
-    } else {
-      // COCO's loadRes: a box result's mask is its rectangle (here the pixels whose
-      // centre lies inside it).
-      // Clamped as doubles first: a hostile box of 1e20 px must not overflow the cast.
-      auto edge = [](double x, int hi) { return static_cast<int>(std::clamp(std::ceil(x - 0.5), 0.0, static_cast<double>(hi))); };
-      const int u0 = edge(a.x, width), v0 = edge(a.y, height), u1 = edge(a.x + a.w, width), v1 = edge(a.y + a.h, height);
-      const std::vector<std::uint8_t> ones(static_cast<std::size_t>(std::max(0, u1 - u0)) * std::max(0, v1 - v0), 1);
-      if (u1 > u0 && v1 > v0) {
-        o.mask = rle_encode(ones.data(), u0, v0, u1 - u0, v1 - v0, width, height);
-      } else {
-        const std::uint8_t zero = 0;
-        o.mask = rle_encode(&zero, 0, 0, 1, 1, width, height);
-      }
-    }
+    o.mask = std::move(mask);
     o.area = static_cast<double>(rle_area(*o.mask));
     out.push_back(std::move(o));
     source.push_back(i);

@@ -31,8 +31,8 @@ const Registry<ProtocolRun>& protocol_registry() {
           protocol("single_frame", "per frame: pass-through, ROIs, fine tuning, estimate; no registration (seed 003)",
                    run_single_frame),
           protocol("stereo_pair",
-                   "per station: one rectified colour stereo pair; cutting point, berries, bounding volume scored "
-                   "against the exact scene (seed 001)",
+                   "per station: one rectified colour stereo pair; cutting point, berries, cluster region, bounding "
+                   "volume scored against the exact scene (seed 001)",
                    run_stereo_pair),
           protocol("classification",
                    "a vine-row section, a camera pass made into one coloured cloud, a training and a separate test "

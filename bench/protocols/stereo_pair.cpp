@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 
+#include "bench/instance_mask.h"
 #include "bench/protocols/capture.h"
 #include "synth/generate.h"
 
@@ -158,33 +159,29 @@ std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, 
 
 std::vector<EstimateRow> cluster_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth) {
   const ImageDetection* region = nullptr;
-  for (const ImageDetection& d : e.instances) {
-    if (d.category == "bunch" && (!region || d.score > region->score)) region = &d;
+  std::size_t index = 0;
+  for (std::size_t i = 0; i < e.instances.size(); ++i) {
+    const ImageDetection& d = e.instances[i];
+    if (d.category == "bunch" && (!region || d.score > region->score)) region = &d, index = i;
   }
   if (!region) return {};
-  const auto& d = *region;
-  if (d.mask.size() != static_cast<std::size_t>(d.mask_w) * static_cast<std::size_t>(std::max(d.mask_h, 0)))
-    throw InputError("stereo_pair: the estimator's bunch mask has " + std::to_string(d.mask.size()) + " values for a " +
-                     std::to_string(d.mask_w) + " x " + std::to_string(d.mask_h) + " box");
-  std::size_t both = 0, est = 0, tru = 0;
-  int top = -1;
-  for (int y = 0; y < d.mask_h; ++y) {
-    for (int x = 0; x < d.mask_w; ++x) {
-      if (!d.mask[static_cast<std::size_t>(y) * d.mask_w + x]) continue;
-      const int u = d.mask_x + x, v = d.mask_y + y;
-      if (u < 0 || v < 0 || u >= truth.width || v >= truth.height) continue;  // off the image: counts for neither
-      ++est;
-      if (top < 0) top = v;
-      both += truth.cluster[static_cast<std::size_t>(v) * truth.width + u];
-    }
+  // Read as the detection protocol reads answers (a mask, COCO RLE or a box's pixels),
+  // so an external program's region scores as luo2016_stereo's does.
+  Rle mask;
+  try {
+    mask = instance_mask(*region, truth.width, truth.height, "instance " + std::to_string(index) + " (bunch)");
+  } catch (const InputError& err) {  // this estimator's rows fail; the case's others stand
+    const std::string why = std::string("the estimator's region: ") + err.what();
+    return {row_of(base, "cluster_iou", 0, 1, false, why), row_of(base, "cluster_top_px", 0, 0, false, why)};
   }
-  for (const std::uint8_t c : truth.cluster) tru += c;
-  const std::size_t either = est + tru - both;
+  const Rle cluster = rle_encode(truth.cluster.data(), truth.width, truth.height);
+  const bool empty = rle_area(mask) == 0, none = rle_area(cluster) == 0;
+  const double top = empty ? -1 : rle_box(mask)[1];
   std::vector<EstimateRow> rows;
-  rows.push_back(row_of(base, "cluster_iou", either ? static_cast<double>(both) / either : 0, 1, either > 0,
-                        either ? "" : "neither the region nor the truth has a pixel"));
-  rows.push_back(row_of(base, "cluster_top_px", top, truth.berry_top, top >= 0 && truth.berry_top >= 0,
-                        top < 0 ? "empty region" : truth.berry_top < 0 ? "no berry in view" : ""));
+  rows.push_back(row_of(base, "cluster_iou", rle_iou(mask, cluster), 1, !(empty && none),
+                        empty && none ? "neither the region nor the truth has a pixel" : ""));
+  rows.push_back(row_of(base, "cluster_top_px", top, truth.berry_top, !empty && truth.berry_top >= 0,
+                        empty ? "empty region" : truth.berry_top < 0 ? "no berry in view" : ""));
   return rows;
 }
 

@@ -1,9 +1,10 @@
 // The stereo_pair protocol (seed 001): every station of the rig is one rectified colour
 // stereo pair, measured alone. Named stages: scan (capture.h), then per pair the
 // estimator input (the pair and its camera), the exact truth of the pair (peduncle
-// pixels, projected berries, the peduncle's axis), the estimators, and the scoring of
-// each output kind: the cutting point (a point), the berries (detections) and the
-// bounding volume (scalars).
+// pixels, the cluster's pixels, projected berries, the peduncle's axis), the estimators,
+// and the scoring of each output kind: the cutting point (a point), the berries
+// (detections), the cluster region (a "bunch" instance) and the bounding volume
+// (scalars).
 #pragma once
 
 #include "bench/case_result.h"
@@ -45,10 +46,12 @@ std::vector<EstimateRow> cutting_point_rows(const EstimateRow& base, const Estim
 // over the matched) and berry_radius_error (px, signed mean, detection - truth).
 std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth);
 
-// Rows of the cluster region an estimator stands on (its "bunch" instance; none when it
-// answers none): cluster_iou (its mask against the truth's cluster pixels) and
+// Rows of the cluster region an estimator stands on: its best-scored "bunch" instance,
+// read as the detection protocol reads answers (mask, COCO RLE, or a box's pixels);
+// no rows when it answers none. cluster_iou (against the truth's cluster pixels) and
 // cluster_top_px (its top row; truth: the topmost berry row; negative error: the region
-// reaches above the berries, where the cutting point's ROI is placed).
+// reaches above the berries, where the cutting point's ROI is placed). A malformed
+// answer fails both rows with the reason (the case's other rows stand).
 std::vector<EstimateRow> cluster_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth);
 
 // Every estimator on view k's pair; appends its rows to r.rows.

@@ -115,10 +115,7 @@ Shape box() {
   return {"box", p, e.prod(), e.prod()};
 }
 
-// One estimator on one shape, built from its scene text through the registry (as a
-// scene file would build it): the answer the shape's geometry gives for one of its
-// quantities, and the documented tolerance (relative).
-// A shape's name and its maker: naming the 52 tests must not build their point sets
+// A shape's name and its maker: naming the 51 tests must not build their point sets
 // (it did, in every test process: 1.3 s each in Release, 5 s under ASan).
 struct ShapeMaker {
   std::string name;
@@ -128,6 +125,9 @@ struct ShapeMaker {
 const ShapeMaker kSphere{"sphere", sphere}, kEllipsoid{"ellipsoid", ellipsoid},
     kCappedCylinder{"capped_cylinder", capped_cylinder}, kTwoSpheres{"two_spheres", two_spheres}, kBox{"box", box};
 
+// One estimator on one shape, built from its scene text through the registry (as a
+// scene file would build it): the answer the shape's geometry gives for one of its
+// quantities, and the documented tolerance (relative).
 struct Case {
   std::string label;  // for the test name
   std::string scene;  // the estimator's scene mapping, e.g. "type: voxel\nvoxel_size: 0.002"
@@ -166,6 +166,7 @@ TEST_P(AnalyticShapes, EstimateMatchesKnownAnswer) {
   const Case& k = GetParam();
   if (k.label == "python" && !python_available()) GTEST_SKIP() << "built without Python (GRAPEBENCH_BUILD_PYTHON)";
   const Shape s = k.shape();
+  ASSERT_EQ(s.name, k.shape.name);  // the name the test carries is the shape's
   const double got = estimate(k, s), want = k.expected(s);
   std::printf("[estimator] %-11s %-16s %-11s estimate %.6g, expected %.6g, error %+.3f %%\n", k.label.c_str(),
               s.name.c_str(), quantity_name(k.quantity), got, want, 100 * (got / want - 1));

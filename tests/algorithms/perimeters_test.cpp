@@ -61,6 +61,7 @@ TEST(SectionPerimeters, EllipsoidSectionsMatchTheirEllipses) {
   }
   const SectionPerimeters s = section_perimeters(c, {});
   // Section normal to the major axis: ellipse (40, 25); middle: (60, 25); minor: (60, 40).
+  // Measured at 40000 points: 1.00000 0.99996 0.99997 (200000: within 1e-5).
   std::printf("[perimeters] %d points: %.5f %.5f %.5f of the ellipses'\n", n, s.perimeter(0) / ellipse_perimeter(0.04, 0.025),
               s.perimeter(1) / ellipse_perimeter(0.06, 0.025), s.perimeter(2) / ellipse_perimeter(0.06, 0.04));
   EXPECT_NEAR(s.perimeter(0) / ellipse_perimeter(0.04, 0.025), 1, 0.002);
@@ -70,7 +71,7 @@ TEST(SectionPerimeters, EllipsoidSectionsMatchTheirEllipses) {
   angular.outline = SectionPerimeterParams::Outline::Angular;
   const SectionPerimeters a = section_perimeters(c, angular);
   std::printf("[perimeters] angular outline: %.5f\n", a.perimeter(2) / ellipse_perimeter(0.06, 0.04));
-  EXPECT_NEAR(a.perimeter(2) / ellipse_perimeter(0.06, 0.04), 1, 0.005);
+  EXPECT_NEAR(a.perimeter(2) / ellipse_perimeter(0.06, 0.04), 1, 0.005);  // measured 0.99974
 }
 
 TEST(SectionPerimeters, TooFewPointsInASliceIsAnError) {

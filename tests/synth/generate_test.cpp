@@ -21,10 +21,8 @@ TEST_P(EveryPreset, ContactsAreOnlyThoseTheFormulaAccountsFor) {
   for (double c : {0.0, 0.5, 1.0}) {
     BunchParams p = preset(GetParam());
     p.compactness = c;
-    for (std::uint64_t seed = 0; seed < 2; ++seed) {  // every bunch generated anywhere is checked too
-      const Bunch b = generate_bunch(p, seed);
-      const auto problems = check_bunch(b);
-      EXPECT_TRUE(problems.empty()) << GetParam() << " seed " << seed << ": " << problems.front();
+    for (std::uint64_t seed = 0; seed < 2; ++seed) {
+      const Bunch b = generate_bunch(p, seed);  // throws when check_bunch finds a contact (as for every bunch)
       EXPECT_LE(berry_contacts(b).depth_max, c * p.max_press_depth * (1 + 1e-6) + 1e-9);
       EXPECT_GE(static_cast<int>(b.berries.size()), 1);
     }

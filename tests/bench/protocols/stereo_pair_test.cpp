@@ -35,9 +35,9 @@ TEST(StereoPair, AWingDoesNotMoveTheStalksLowerEnd) {
   EXPECT_EQ(winged, 2);
 }
 
-// The cluster region's rows: its mask against the truth's cluster pixels, its top row
-// against the topmost berry's; the best-scored "bunch" instance only; mask pixels off
-// the image count for neither side.
+// The cluster region's rows: the best-scored "bunch" answer, read as the detection
+// protocol reads answers (a mask, or a box's pixels), against the truth's cluster
+// pixels; a malformed answer fails this estimator's rows instead of the case.
 TEST(StereoPair, ClusterRowsScoreTheRegionAgainstTheClusterPixels) {
   StereoTruth t;
   t.width = 10, t.height = 8;
@@ -45,21 +45,22 @@ TEST(StereoPair, ClusterRowsScoreTheRegionAgainstTheClusterPixels) {
   for (int v = 3; v <= 6; ++v)
     for (int u = 2; u <= 7; ++u) t.cluster[static_cast<std::size_t>(v) * 10 + u] = 1;  // 24 px
   t.berry_top = 3;
-  const auto box = [](const char* category, double score, int x, int y, int w, int h) {
+  const auto masked = [](const char* category, double score, int x, int y, int w, int h) {
     ImageDetection d;
     d.category = category, d.score = score;
+    d.x = x, d.y = y, d.w = w, d.h = h;
     d.mask_x = x, d.mask_y = y, d.mask_w = w, d.mask_h = h;
     d.mask.assign(static_cast<std::size_t>(w) * h, 1);
     return d;
   };
   Estimate e;
   EXPECT_TRUE(cluster_rows(EstimateRow{}, e, t).empty());  // no region answered: no rows
-  e.instances.push_back(box("berry", 1, 0, 0, 10, 8));
-  e.instances.push_back(box("bunch", 0.2, 0, 0, 10, 8));
-  // The scored one: columns 4-11 (10 and 11 off the image), rows 2-5: 24 px on the image,
-  // 12 of them on the cluster (rows 3-5, columns 4-7): IoU 12 / 36.
-  e.instances.push_back(box("bunch", 0.9, 4, 2, 8, 4));
-  const std::vector<EstimateRow> rows = cluster_rows(EstimateRow{}, e, t);
+  e.instances.push_back(masked("berry", 1, 0, 0, 10, 8));
+  e.instances.push_back(masked("bunch", 0.2, 0, 0, 10, 8));
+  // The scored one: columns 4-9, rows 2-5 (24 px), 12 of them on the cluster (rows
+  // 3-5, columns 4-7): IoU 12 / 36.
+  e.instances.push_back(masked("bunch", 0.9, 4, 2, 6, 4));
+  std::vector<EstimateRow> rows = cluster_rows(EstimateRow{}, e, t);
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0].quantity, "cluster_iou");
   EXPECT_DOUBLE_EQ(rows[0].estimate, 12.0 / 36.0);
@@ -69,13 +70,61 @@ TEST(StereoPair, ClusterRowsScoreTheRegionAgainstTheClusterPixels) {
   EXPECT_EQ(rows[1].estimate, 2);
   EXPECT_EQ(rows[1].truth, 3);
   EXPECT_TRUE(rows[1].ok);
-  // An empty mask is an empty region, not row 0; a mask of the wrong size is refused.
-  e.instances.back().mask.assign(32, 0);
-  const std::vector<EstimateRow> empty = cluster_rows(EstimateRow{}, e, t);
-  EXPECT_EQ(empty[0].estimate, 0);
-  EXPECT_FALSE(empty[1].ok);
-  e.instances.back().mask.resize(31);
-  EXPECT_THROW(cluster_rows(EstimateRow{}, e, t), InputError);
+  // A box without a mask (an external program's answer) is its box's pixels (COCO's
+  // pixel u spans [u, u + 1)): the box (2, 3, 6, 4) is columns 2-7, rows 3-6, the
+  // cluster exactly.
+  ImageDetection& best = e.instances.back();
+  best.mask.clear();
+  best.x = 2, best.y = 3, best.w = 6, best.h = 4;
+  rows = cluster_rows(EstimateRow{}, e, t);
+  EXPECT_DOUBLE_EQ(rows[0].estimate, 1.0);
+  EXPECT_EQ(rows[1].estimate, 3);
+  // An empty mask is an empty region (IoU 0, no top row), not row 0.
+  best = masked("bunch", 0.9, 4, 2, 6, 4);
+  best.mask.assign(24, 0);
+  rows = cluster_rows(EstimateRow{}, e, t);
+  EXPECT_EQ(rows[0].estimate, 0);
+  EXPECT_TRUE(rows[0].ok);
+  EXPECT_FALSE(rows[1].ok);
+  // A mask of the wrong length, or off the image: this estimator's rows fail, naming it.
+  best.mask.resize(23);
+  rows = cluster_rows(EstimateRow{}, e, t);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_FALSE(rows[0].ok);
+  EXPECT_NE(rows[0].error.find("instance 2"), std::string::npos) << rows[0].error;
+  best = masked("bunch", 0.9, 6, 2, 6, 4);  // columns 6-11 of a 10-column image
+  EXPECT_FALSE(cluster_rows(EstimateRow{}, e, t)[0].ok);
+}
+
+// The truth behind those rows: the cluster is the bunch below the stalk (berries,
+// pedicels, branches; not the peduncle nor the bare rachis above the first branch),
+// and berry_top the first row a berry is seen in.
+TEST(StereoPair, TheClusterTruthIsTheBunchBelowTheStalk) {
+  const Bunch b = generate_bunch(preset("table-red"), 3);
+  const double branch_z = first_branch_height(b);
+  ScanView view;  // camera at the origin, axes the world's: a pixel's z is its height
+  OrganisedCloud& c = view.cloud;
+  c.resize(3, 3);
+  const auto set = [&](int u, int v, Part part, double z) {
+    const std::size_t i = static_cast<std::size_t>(v) * 3 + u;
+    c.label[i] = static_cast<std::uint8_t>(part);
+    c.valid[i] = 1;
+    c.berry[i] = part == Part::Berry ? 0 : -1;
+    c.xyz[i] = Eigen::Vector3f(0, 0, static_cast<float>(z));
+  };
+  for (std::size_t i = 0; i < 9; ++i) c.label[i] = static_cast<std::uint8_t>(Part::None), c.valid[i] = 0;
+  set(0, 0, Part::Peduncle, branch_z + 0.02);
+  set(1, 0, Part::Rachis, branch_z + 0.01);  // bare stalk
+  set(2, 0, Part::Leaf, branch_z);
+  set(0, 1, Part::Rachis, branch_z - 0.01);  // a branch's level: cluster
+  set(1, 1, Part::Pedicel, branch_z - 0.02);
+  set(2, 2, Part::Berry, branch_z - 0.03);
+  const StereoTruth t = stereo_truth(view, b, 0.6667);
+  const std::vector<std::uint8_t> cluster{0, 0, 0, 1, 1, 0, 0, 0, 1};
+  EXPECT_EQ(t.cluster, cluster);
+  EXPECT_EQ(t.stalk[0] + t.stalk[1], 2);
+  EXPECT_EQ(t.berry_top, 2);
+  for (std::size_t i = 0; i < 9; ++i) EXPECT_FALSE(t.cluster[i] && t.stalk[i]) << i;
 }
 
 }  // namespace
