@@ -522,15 +522,13 @@ Bunch generate_bunch(const BunchParams& p, std::uint64_t seed, GenerationReport*
     if (fr.uniform(0, 1) < q.flat_side_probability) {
       const double phi = fr.uniform(0, 2 * M_PI);
       const Vec3 normal(std::cos(phi), std::sin(phi), 0);
-      GenerationReport round_report;
-      Bunch round = BunchBuilder(q, seed).build(report ? &round_report : nullptr);
+      Bunch round = BunchBuilder(q, seed).build(report);  // a flat build below overwrites the report
       double reach = 0;
       for (const Berry& b : round.berries) {
         if (!on_wing(round, b.pedicel)) reach = std::max(reach, b.centre.dot(normal) + b.radius);
       }
       if (reach > 0) return BunchBuilder(q, seed, normal, (1 - q.flat_side_depth) * reach).build(report);
-      if (report) *report = round_report;  // no body to flatten: the round bunch is the bunch
-      return round;
+      return round;  // no body to flatten: the round bunch is the bunch
     }
   }
   return BunchBuilder(q, seed).build(report);

@@ -37,6 +37,7 @@ StereoTruth stereo_truth(const ScanView& view, const Bunch& bunch, double visibl
   StereoTruth t;
   t.width = c.width, t.height = c.height;
   t.stalk.assign(c.size(), 0);
+  t.cluster.assign(c.size(), 0);
   const double branch_z = first_branch_height(bunch);
   std::map<int, int> seen;  // berry id -> unoccluded berry pixels
   for (std::size_t i = 0; i < c.size(); ++i) {
@@ -45,13 +46,11 @@ StereoTruth stereo_truth(const ScanView& view, const Bunch& bunch, double visibl
     // Rachis surface above the first branch: the bare stalk (branches hang downwards).
     if (part == Part::Rachis && c.valid[i] && (view.camera.pose * c.xyz[i].cast<double>()).z() > branch_z)
       t.stalk[i] = 1;
-    if (part == Part::Berry) ++seen[c.berry[i]];
-  }
-  t.cluster.assign(c.size(), 0);
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    const auto part = static_cast<Part>(c.label[i]);
     t.cluster[i] = (part == Part::Berry || part == Part::Pedicel || part == Part::Rachis) && !t.stalk[i];
-    if (part == Part::Berry && t.berry_top < 0) t.berry_top = static_cast<int>(i / c.width);
+    if (part == Part::Berry) {
+      ++seen[c.berry[i]];
+      if (t.berry_top < 0) t.berry_top = static_cast<int>(i / c.width);
+    }
   }
   const Intrinsics& k = view.camera.K;
   for (std::size_t b = 0; b < bunch.berries.size(); ++b) {
