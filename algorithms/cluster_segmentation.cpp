@@ -126,6 +126,21 @@ ClusterRegion segment_cluster(const RgbImage& image, const ClusterSegmentationPa
   return r;
 }
 
+ClusterRegion cluster_region_of_mask(const std::vector<std::uint8_t>& mask, int width, int height,
+                                     const ClusterSegmentationParams& p) {
+  if (width <= 0 || height <= 0 || mask.size() != static_cast<std::size_t>(width) * height)
+    throw InputError("cluster region: a mask of " + std::to_string(mask.size()) + " values for a " +
+                     std::to_string(width) + " x " + std::to_string(height) + " image");
+  ClusterRegion r;
+  r.width = width, r.height = height;
+  cv::Mat region(height, width, CV_8U);
+  for (std::size_t i = 0; i < mask.size(); ++i) region.data[i] = mask[i] ? 255 : 0;
+  const cv::Mat binary = region.clone();
+  fill_holes(binary, region);
+  region_geometry(region, p, r);
+  return r;
+}
+
 std::vector<ClusterRegion> segment_clusters(const RgbImage& image, const ClusterSegmentationParams& p) {
   std::vector<ClusterRegion> out;
   double threshold = 0;

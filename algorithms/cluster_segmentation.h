@@ -42,6 +42,12 @@ std::vector<std::uint8_t> cluster_component(const RgbImage& image, ClusterSegmen
 // component spans fewer than 8 levels (nothing for Otsu to split).
 ClusterRegion segment_cluster(const RgbImage& image, const ClusterSegmentationParams& p);
 
+// The region of a given mask (H x W, non-zero on the cluster: the oracle ablation's
+// exact cluster pixels) as segment_cluster makes its own: holes filled, then Eqs. 1-2's
+// geometry; area 0 below min_cluster_px. Throws InputError when the mask is not H x W.
+ClusterRegion cluster_region_of_mask(const std::vector<std::uint8_t>& mask, int width, int height,
+                                     const ClusterSegmentationParams& p);
+
 // Every region of at least min_cluster_px pixels, each as segment_cluster makes its
 // one (holes filled, dilated; the dilation may make neighbours overlap), largest first:
 // the paper's segmentation as a detector of several clusters in one image.

@@ -105,6 +105,15 @@ struct InputFrame {
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels, OpenCV convention (pixel (u, v) centred at (u, v))
 };
 
+// The stereo_pair protocol's oracle ablation (scene key `pipeline.oracle`; seed 001):
+// exact images of the left view that replace a stage of the estimator, so that a
+// stage's failure is told apart from the image's appearance. Made only when the scene
+// asks for it, and its rows then say so; an estimator is otherwise never given truth.
+struct StereoOracle {
+  std::vector<std::uint8_t> cluster;  // H x W, 1 on the cluster's pixels (berries, pedicels, branches); empty: not given
+  RgbImage berry_edges;               // the left view redrawn from the labels: berries white, their outlines black; empty: not given
+};
+
 // What a protocol hands an estimator: the cloud and, where the protocol knows them,
 // per-point attributes in the same row order (empty otherwise).
 struct EstimatorInput {
@@ -119,6 +128,7 @@ struct EstimatorInput {
   // training part's points or -1 where the estimator must score (N, or empty).
   std::vector<std::string> classes;
   std::vector<int> train_labels;
+  std::shared_ptr<const StereoOracle> oracle;  // stereo_pair's oracle ablation only (above); null otherwise
 };
 
 // An estimator with its parameters bound (parsed and range-checked when the scene is

@@ -42,7 +42,8 @@ void require_pair(const StereoPair& pair, int window) {
 
 }  // namespace
 
-Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, const ClusterRegion* region) {
+Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, const ClusterRegion* region,
+                             const RgbImage* berry_image) {
   require_pair(pair, p.matching.window);
   Luo2016Result r;
   auto t0 = std::chrono::steady_clock::now();
@@ -54,6 +55,11 @@ Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, con
                      std::to_string(region->x1) + " x " + std::to_string(region->y0) + ".." +
                      std::to_string(region->y1) + ") is not of the " + std::to_string(pair.left.width) + " x " +
                      std::to_string(pair.left.height) + " image");
+  if (berry_image && (berry_image->width != pair.left.width || berry_image->height != pair.left.height ||
+                      berry_image->data.size() != pair.left.data.size()))
+    throw InputError("luo2016_stereo: the berry stage's image (" + std::to_string(berry_image->width) + " x " +
+                     std::to_string(berry_image->height) + ") is not of the " + std::to_string(pair.left.width) +
+                     " x " + std::to_string(pair.left.height) + " x 3 left image");
   r.region = region ? *region : segment_cluster(pair.left, p.segmentation);
   r.seconds_segmentation = lap(t0);
   if (!r.region.found()) {
@@ -78,7 +84,7 @@ Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, con
   r.seconds_matching = lap(t0);
   // Eq. 6 needs the berries' depth before matching them; the paper does not say where
   // it comes from: the cutting point's.
-  r.berries = detect_berries(pair.left, r.region, r.cutting_point.z(), pair.fx, p.berries);
+  r.berries = detect_berries(berry_image ? *berry_image : pair.left, r.region, r.cutting_point.z(), pair.fx, p.berries);
   r.seconds_berries = lap(t0);
   for (const Detection& d : r.berries.berries) {
     const NccMatch m = ncc_disparity(left, right, d.circle.x, d.circle.y, pair.fx, pair.baseline, p.matching);
@@ -115,7 +121,14 @@ ImageDetection cluster_detection(const ClusterRegion& r, double score) {
 Estimate luo2016_estimate(const EstimatorInput& input, const Luo2016Params& p) {
   if (!input.stereo)
     throw InputError("luo2016_stereo: needs a stereo pair (protocol: stereo_pair, sensor: stereo_rgb)");
-  const Luo2016Result r = luo2016_stereo(*input.stereo, p);
+  const StereoPair& pair = *input.stereo;
+  const StereoOracle* oracle = input.oracle.get();
+  const bool given_region = oracle && !oracle->cluster.empty(), given_berries = oracle && !oracle->berry_edges.data.empty();
+  ClusterRegion given;
+  if (given_region) given = cluster_region_of_mask(oracle->cluster, pair.left.width, pair.left.height, p.segmentation);
+  // A given region under min_cluster_px has area 0: "no cluster region", as a segmented one.
+  const Luo2016Result r =
+      luo2016_stereo(pair, p, given_region ? &given : nullptr, given_berries ? &oracle->berry_edges : nullptr);
   Estimate e;
   e.error = r.failure;
   if (r.cut.found() && r.cut_disparity > 0) e.points.emplace_back("cutting_point", r.cutting_point);

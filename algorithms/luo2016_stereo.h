@@ -44,13 +44,18 @@ struct Luo2016Result {
 // Throws InputError when the images differ in size, are not W x H x 3 or are smaller
 // than the matching window, or the camera is degenerate. `region`: the cluster's, when
 // the caller segmented the image already (luo2016_instances, one of several regions);
-// null: the paper's segmentation, its largest region.
-Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, const ClusterRegion* region = nullptr);
+// null: the paper's segmentation, its largest region. `berry_image`: what the berry
+// stage reads in place of the left image (the oracle ablation's berries redrawn from
+// the exact labels; same size); null: the left image.
+Luo2016Result luo2016_stereo(const StereoPair& pair, const Luo2016Params& p, const ClusterRegion* region = nullptr,
+                             const RgbImage* berry_image = nullptr);
 
 // The system as an estimator: the point "cutting_point" (left camera frame, m) when it
 // was matched, the berry circles as detections, its cluster region as one "bunch"
 // instance (mask) when it found one, and the bounding volume's hanging_height,
-// max_diameter and volume; Estimate::error names the failed stage.
+// max_diameter and volume; Estimate::error names the failed stage. Under the
+// protocol's oracle ablation (input.oracle) the exact cluster pixels replace the
+// segmentation and the exact berry outlines the berry stage's image, each when given.
 // Throws InputError when the input has no stereo pair.
 Estimate luo2016_estimate(const EstimatorInput& input, const Luo2016Params& p);
 

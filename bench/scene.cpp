@@ -66,6 +66,13 @@ const ParamTable<PipelineSpec>& pipeline_param_table() {
                 "a berry counts as visible when this fraction of its projected disc is unoccluded in the left label "
                 "image (seed 001 Table 1: occluded by less than 1/3)")
           .when("protocol: stereo_pair", stereo_pair)
+          .choice("oracle", &P::oracle,
+                  {{"none", P::Oracle::None}, {"cluster", P::Oracle::Cluster}, {"berries", P::Oracle::Berries},
+                   {"both", P::Oracle::Both}},
+                  "an ablation, never a result: the estimator is given the exact cluster pixels (in place of its "
+                  "segmentation), the berries' outlines drawn from the exact labels (in place of the image its berry "
+                  "stage reads), or both; rows say 'oracle: ...' in their notes (issue 38 item 7)")
+          .when("protocol: stereo_pair", stereo_pair)
           .choice("reconstruction", &P::reconstruction,
                   {{"noise_model", P::Reconstruction::NoiseModel}, {"sgbm", P::Reconstruction::Sgbm}},
                   "the pass's views to points (seed 004's Bundler + PMVS stand-ins): the ray-cast returns with the "

@@ -74,6 +74,13 @@ struct PipelineSpec {
   // berry_visible_fraction of its projected disc is unoccluded there (Table 1: 2/3).
   double cut_tolerance = 2;
   double berry_visible_fraction = 2.0 / 3.0;
+  // stereo_pair's oracle ablation (EstimatorInput::oracle): stages of the estimator
+  // given the exact answer from the left label image, so a gap is traced to its stage.
+  enum class Oracle { None, Cluster, Berries, Both };
+  Oracle oracle = Oracle::None;
+  const char* oracle_name() const {
+    return oracle == Oracle::Cluster ? "cluster" : oracle == Oracle::Berries ? "berries" : oracle == Oracle::Both ? "both" : "none";
+  }
   // classification (seed 004): how the pass becomes one coloured cloud (noise_model: the
   // ray-cast returns with the stereo depth error; sgbm: semi-global matching of each
   // view's rendered colour pair), the fusion of the views, and the gap (m) along the

@@ -211,12 +211,42 @@ std::vector<EstimateRow> bounding_volume_rows(const EstimatorSpec& spec, const T
 
 }  // namespace
 
+std::shared_ptr<const StereoOracle> stereo_oracle(PipelineSpec::Oracle oracle, const ScanView& view,
+                                                  const StereoTruth& truth) {
+  using O = PipelineSpec::Oracle;
+  if (oracle == O::None) return nullptr;
+  auto o = std::make_shared<StereoOracle>();
+  if (oracle == O::Cluster || oracle == O::Both) o->cluster = truth.cluster;
+  if (oracle == O::Berries || oracle == O::Both) {
+    const OrganisedCloud& c = view.cloud;
+    const int w = c.width, h = c.height;
+    RgbImage& img = o->berry_edges;
+    img.width = w, img.height = h;
+    img.data.assign(static_cast<std::size_t>(w) * h * 3, 0);
+    const auto berry = [&](int u, int v) {
+      const std::size_t i = static_cast<std::size_t>(v) * w + u;
+      return static_cast<Part>(c.label[i]) == Part::Berry ? c.berry[i] : -1;
+    };
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        const int id = berry(u, v);
+        if (id < 0) continue;
+        const bool inside = u > 0 && v > 0 && u + 1 < w && v + 1 < h && berry(u - 1, v) == id &&
+                            berry(u + 1, v) == id && berry(u, v - 1) == id && berry(u, v + 1) == id;
+        if (inside) std::fill_n(img.data.begin() + 3 * (static_cast<std::size_t>(v) * w + u), 3, 255);
+      }
+    }
+  }
+  return o;
+}
+
 void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const Bunch& bunch, const GroundTruth& gt,
                   CaseResult& r) {
   const PipelineSpec& pl = scene.pipeline;
   EstimatorInput in = stereo_input(view);
   in.frame->index = static_cast<int>(k);
   const StereoTruth truth = stereo_truth(view, bunch, pl.berry_visible_fraction);
+  in.oracle = stereo_oracle(pl.oracle, view, truth);
   for (const EstimatorSpec& spec : scene.estimators) {
     const TimedEstimate t = run_estimator(spec, in);
     std::vector<EstimateRow> rows = bounding_volume_rows(spec, t, gt);
@@ -227,6 +257,7 @@ void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const
     for (EstimateRow& row : rows) {
       row.frame = static_cast<int>(k);
       row.roi = view.rig.name;
+      if (in.oracle) row.notes = std::string("oracle: ") + pl.oracle_name() + "; " + row.notes;
       r.rows.push_back(std::move(row));
     }
   }

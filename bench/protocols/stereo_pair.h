@@ -54,6 +54,13 @@ std::vector<EstimateRow> berry_rows(const EstimateRow& base, const Estimate& e, 
 // answer fails both rows with the reason (the case's other rows stand).
 std::vector<EstimateRow> cluster_rows(const EstimateRow& base, const Estimate& e, const StereoTruth& truth);
 
+// The oracle ablation's inputs from the exact truth (pipeline.oracle; null for none):
+// the truth's cluster pixels, and the left view redrawn from the label image with
+// each berry's pixels white (255) and black where a 4-neighbour is not the same
+// berry, everything else black: the outlines the berry stage's Hough circles read.
+std::shared_ptr<const StereoOracle> stereo_oracle(PipelineSpec::Oracle oracle, const ScanView& view,
+                                                  const StereoTruth& truth);
+
 // Every estimator on view k's pair; appends its rows to r.rows.
 void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const Bunch& bunch, const GroundTruth& gt,
                   CaseResult& r);

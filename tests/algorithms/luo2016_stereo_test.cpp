@@ -108,5 +108,73 @@ TEST(Luo2016Stereo, FailuresNameTheirStage) {
   EXPECT_NE(luo2016_stereo(a.pair, far).failure.find("cutting point not matched"), std::string::npos);
 }
 
+// The protocol's oracle ablation (input.oracle): a given cluster mask replaces the
+// segmentation (holes filled, as the paper's region), a given image the one the berry
+// stage reads; nothing else changes.
+TEST(Luo2016Stereo, AnOracleReplacesTheSegmentationAndTheBerryStagesImage) {
+  const AnalyticPair a = analytic_pair();
+  const int w = a.pair.left.width, h = a.pair.left.height;
+  EstimatorInput in;
+  in.stereo = std::make_shared<StereoPair>(a.pair);
+  Luo2016Params p;
+  p.berries.radius_model = BerryCircleParams::RadiusModel::Pinhole;
+  const ClusterRegion own = segment_cluster(a.pair.left, p.segmentation);
+  ASSERT_TRUE(own.found());
+
+  // The given region: the segmented one without its bottom 20 rows, a 5 x 5 hole
+  // punched at its barycentre.
+  auto oracle = std::make_shared<StereoOracle>();
+  oracle->cluster.assign(static_cast<std::size_t>(w) * h, 0);
+  for (int y = own.y0; y <= own.y1 - 20; ++y)
+    for (int x = own.x0; x <= own.x1; ++x)
+      oracle->cluster[static_cast<std::size_t>(y) * w + x] = own.mask[static_cast<std::size_t>(y) * w + x] ? 1 : 0;
+  for (int y = -2; y <= 2; ++y)
+    for (int x = -2; x <= 2; ++x)
+      oracle->cluster[static_cast<std::size_t>(std::lround(own.yc) + y) * w + std::lround(own.xc) + x] = 0;
+  in.oracle = oracle;
+  Estimate e = luo2016_estimate(in, p);
+  ASSERT_EQ(e.instances.size(), 1u);
+  const ImageDetection& region = e.instances[0];
+  EXPECT_EQ(region.mask_y, own.y0);
+  EXPECT_EQ(region.mask_y + region.mask_h - 1, own.y1 - 20);
+  for (int y = 0; y < region.mask_h; ++y)
+    for (int x = 0; x < region.mask_w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y + region.mask_y) * w + (x + region.mask_x);
+      ASSERT_EQ(region.mask[static_cast<std::size_t>(y) * region.mask_w + x], own.mask[i] ? 1 : 0) << x << ", " << y;
+    }
+  ASSERT_EQ(e.points.size(), 1u) << e.error;  // the cut stands on the given region's top
+
+  // The berry stage's image: all black finds nothing; the berries drawn as white discs
+  // with black outlines (as the protocol draws them from the labels) finds them.
+  oracle = std::make_shared<StereoOracle>();
+  oracle->berry_edges.width = w, oracle->berry_edges.height = h;
+  oracle->berry_edges.data.assign(static_cast<std::size_t>(w) * h * 3, 0);
+  in.oracle = oracle;
+  e = luo2016_estimate(in, p);
+  EXPECT_TRUE(e.detections.empty());
+  std::vector<int> ids(static_cast<std::size_t>(w) * h, -1);  // the first disc over each pixel
+  for (std::size_t k = a.circles.size(); k-- > 0;) {
+    const Circle& c = a.circles[k];
+    for (int y = std::max(0, int(c.y - c.r) - 1); y <= std::min(h - 1, int(c.y + c.r) + 1); ++y)
+      for (int x = std::max(0, int(c.x - c.r) - 1); x <= std::min(w - 1, int(c.x + c.r) + 1); ++x)
+        if (std::hypot(x - c.x, y - c.y) <= c.r) ids[static_cast<std::size_t>(y) * w + x] = static_cast<int>(k);
+  }
+  const auto id = [&](int x, int y) { return ids[static_cast<std::size_t>(y) * w + x]; };
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      const int k = id(x, y);
+      if (k >= 0 && id(x - 1, y) == k && id(x + 1, y) == k && id(x, y - 1) == k && id(x, y + 1) == k)
+        std::fill_n(oracle->berry_edges.data.begin() + 3 * (static_cast<std::size_t>(y) * w + x), 3, 255);
+    }
+  e = luo2016_estimate(in, p);
+  int found = 0;
+  for (const Detection& d : e.detections)
+    for (const Circle& c : a.circles) found += std::hypot(d.circle.x - c.x, d.circle.y - c.y) < 2.0;
+  EXPECT_GE(found, 0.8 * static_cast<double>(a.circles.size())) << e.notes;
+
+  oracle->berry_edges.width = w - 1;  // of another size: an input error naming it
+  EXPECT_THROW(luo2016_estimate(in, p), InputError);
+}
+
 }  // namespace
 }  // namespace grapebench

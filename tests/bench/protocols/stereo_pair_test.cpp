@@ -127,5 +127,47 @@ TEST(StereoPair, TheClusterTruthIsTheBunchBelowTheStalk) {
   for (std::size_t i = 0; i < 9; ++i) EXPECT_FALSE(t.cluster[i] && t.stalk[i]) << i;
 }
 
+// The oracle ablation's inputs: none unless asked; the truth's cluster pixels; the
+// berries redrawn from the label image, white inside, black on every pixel with a
+// 4-neighbour of another berry or none (two touching berries stay apart).
+TEST(StereoPair, TheOracleGivesTheExactClusterAndTheBerriesOutlines) {
+  ScanView view;
+  OrganisedCloud& c = view.cloud;
+  c.resize(8, 5);
+  for (std::size_t i = 0; i < c.size(); ++i) c.label[i] = static_cast<std::uint8_t>(Part::Leaf), c.berry[i] = -1;
+  for (int v = 0; v < 5; ++v)
+    for (int u = 1; u < 7; ++u) {  // berry 3 on columns 1-3, berry 4 on columns 4-6
+      const std::size_t i = static_cast<std::size_t>(v) * 8 + u;
+      c.label[i] = static_cast<std::uint8_t>(Part::Berry);
+      c.berry[i] = u < 4 ? 3 : 4;
+    }
+  StereoTruth t;
+  t.width = 8, t.height = 5;
+  t.cluster.assign(40, 0);
+  t.cluster[17] = 1;
+  using O = PipelineSpec::Oracle;
+  EXPECT_EQ(stereo_oracle(O::None, view, t), nullptr);
+  const auto cluster = stereo_oracle(O::Cluster, view, t);
+  ASSERT_NE(cluster, nullptr);
+  EXPECT_EQ(cluster->cluster, t.cluster);
+  EXPECT_TRUE(cluster->berry_edges.data.empty());
+  const auto berries = stereo_oracle(O::Berries, view, t);
+  EXPECT_TRUE(berries->cluster.empty());
+  ASSERT_EQ(berries->berry_edges.width, 8);
+  ASSERT_EQ(berries->berry_edges.data.size(), 120u);
+  // White: rows 1-3 of columns 2 and 5 only (the rest touch the image's edge, a leaf or
+  // the other berry).
+  for (int v = 0; v < 5; ++v)
+    for (int u = 0; u < 8; ++u) {
+      const bool white = v >= 1 && v <= 3 && (u == 2 || u == 5);
+      for (int ch = 0; ch < 3; ++ch)
+        EXPECT_EQ(berries->berry_edges.data[3 * (static_cast<std::size_t>(v) * 8 + u) + ch], white ? 255 : 0)
+            << u << ", " << v;
+    }
+  const auto both = stereo_oracle(O::Both, view, t);
+  EXPECT_EQ(both->cluster, t.cluster);
+  EXPECT_EQ(both->berry_edges.data, berries->berry_edges.data);
+}
+
 }  // namespace
 }  // namespace grapebench
