@@ -168,21 +168,65 @@ class BunchBuilder {
 
     // Rachis: one segment per branch, boundaries halfway between branches, radius
     // tapering linearly with depth; segment 0 is the peduncle's child, the others are
-    // stacked coaxially on their predecessor.
+    // stacked coaxially on their predecessor, but for a bend's: the child of the one
+    // above it.
+    const auto z0 = [&](int k) { return k == 0 ? 0.0 : 0.5 * (heights[k - 1] + heights[k]); };
+    const auto z1 = [&](int k) { return k + 1 == nb ? L : 0.5 * (heights[k] + heights[k + 1]); };
+    const auto radius = [&](int k) {
+      const double frac = 0.5 * (z0(k) + z1(k)) / L;
+      return p.rachis_radius_top + (p.rachis_radius_bottom - p.rachis_radius_top) * frac;
+    };
+    draw_bend(z0, radius);
     segment.assign(nb, 0);
     for (int k = 0; k < nb; ++k) {
-      const double z0 = k == 0 ? 0.0 : 0.5 * (heights[k - 1] + heights[k]);
-      const double z1 = k + 1 == nb ? L : 0.5 * (heights[k] + heights[k + 1]);
-      const double frac = 0.5 * (z0 + z1) / L;
-      const double r = p.rachis_radius_top + (p.rachis_radius_bottom - p.rachis_radius_top) * frac;
-      Stem s{Vec3(0, 0, -z0), Vec3(0, 0, -z1), r, Part::Rachis};
-      if (k == 0)
+      Stem s{axis_point(z0(k)), axis_point(z1(k)), radius(k), Part::Rachis};
+      if (k == 0) {
         s.parent = bunch.peduncle;
-      else
+      } else if (k == bend_segment) {
+        s.start = bend_start;
+        s.parent = segment[k - 1];
+        bunch.bend = static_cast<int>(bunch.stems.size());
+      } else {
         s.stacked_on = segment[k - 1];
+      }
       segment[k] = static_cast<int>(bunch.stems.size());
       bunch.stems.push_back(s);
     }
+  }
+
+  // A bent main axis, from its own stream (so a bunch without one is the bunch its seed
+  // gives at probability 0): at the node between segments k - 1 and k, k in the lower
+  // two thirds, the rest of the axis turns by the drawn angle. The bent part starts on
+  // the axis above, inside the segment above, just far enough from its end for its
+  // base disc to stay inside (check_bunch's rule, r sin theta): a knee joint whose
+  // volume is the exact junction overlap of any child stem.
+  template <class Depth, class Radius>
+  void draw_bend(const Depth& z0, const Radius& radius) {
+    if (p.bend_probability <= 0 || nb < 2) return;
+    Rng br(derive_seed(seed_, 0xbe4d));
+    if (br.uniform(0, 1) >= p.bend_probability) return;
+    const int k = br.uniform_int(std::max(1, static_cast<int>(std::ceil(nb / 3.0))), nb - 1);
+    const double theta = p.bend_angle * br.uniform(0.75, 1.25) * kDeg, psi = br.uniform(0, 2 * M_PI);
+    if (!(radius(k) < radius(k - 1))) return;  // a child must be thinner than its parent
+    bend_segment = k;
+    bend_depth = z0(k);
+    bend_dir = Vec3(std::sin(theta) * std::cos(psi), std::sin(theta) * std::sin(psi), -std::cos(theta));
+    bend_lift = 1.1 * radius(k) * std::sin(theta);
+    bend_start = Vec3(0, 0, -bend_depth + bend_lift);
+  }
+
+  // The main axis at depth h below J (m along the straight axis): (0, 0, -h) above the
+  // bend, below it on the bent part (the rest of the axis keeps its lengths).
+  Vec3 axis_point(double h) const {
+    if (bend_segment < 0 || h <= bend_depth) return Vec3(0, 0, -h);  // the node itself: the end of the part above
+    return bend_start + (bend_lift + (h - bend_depth)) * bend_dir;
+  }
+  // Where the main axis is at height z, projected to z = 0: the origin above the bend,
+  // the bent part's line below it (the berries' pull and outward directions).
+  Vec3 axis_at_height(double z) const {
+    if (bend_segment < 0 || z >= -bend_depth) return Vec3::Zero();
+    const Vec3 q = bend_start + (z - bend_start.z()) / bend_dir.z() * bend_dir;
+    return Vec3(q.x(), q.y(), 0);
   }
 
   // Lateral branches and their berry carriers.
@@ -193,7 +237,7 @@ class BunchBuilder {
       const double s = nb > 1 ? static_cast<double>(k) / (nb - 1) : 0.0;
       const double len = (p.branch_length_top + (p.branch_length_bottom - p.branch_length_top) * s) * branch_scale *
                          rng.uniform(0.9, 1.1);
-      const Vec3 a(0, 0, -heights[k]);
+      const Vec3 a = axis_point(heights[k]);
       // A branch that would touch another stem is drawn again, then left out.
       for (int attempt = 0; attempt < 8; ++attempt) {
         double phi = phi0 + k * 137.508 * kDeg + rng.uniform(-15, 15) * kDeg + attempt * 0.9;
@@ -329,7 +373,7 @@ class BunchBuilder {
             std::max(0.4 * p.pedicel_length_mean, rng.normal(p.pedicel_length_mean, p.pedicel_length_sd));
         s.reach = ped + s.radius;
         s.reach_max = p.pedicel_stretch * ped + s.radius;
-        Vec3 radial(s.anchor.x(), s.anchor.y(), 0);
+        Vec3 radial = Vec3(s.anchor.x(), s.anchor.y(), 0) - axis_at_height(s.anchor.z());
         if (s.on_wing) {  // outwards from the wing's axis
           const Stem& w = bunch.stems[bunch.wing];
           const Vec3 wd = (w.end - w.start).normalized();
@@ -382,9 +426,10 @@ class BunchBuilder {
         const Vec3 ab = w.end - w.start;
         const Vec3 q = w.start + std::clamp((s.centre - w.start).dot(ab) / ab.squaredNorm(), 0.0, 1.0) * ab;
         s.centre -= pull * (s.centre - q);
-      } else {
-        s.centre.x() -= pull * s.centre.x();
-        s.centre.y() -= pull * s.centre.y();
+      } else {  // towards the main axis at the berry's height (x - 0 is x: a straight axis as before)
+        const Vec3 q = axis_at_height(s.centre.z());
+        s.centre.x() -= pull * (s.centre.x() - q.x());
+        s.centre.y() -= pull * (s.centre.y() - q.y());
       }
       s.centre.z() -= 0.03 * s.radius * (1.0 - 0.5 * p.compactness) * fade;
     }
@@ -502,6 +547,11 @@ class BunchBuilder {
   const double clearance = 0.1 * p.pedicel_radius;
   std::vector<double> heights;
   std::vector<int> segment;  // rachis segment per branch
+  // The bend (draw_bend): its segment (-1: none), the node's depth, the bent part's
+  // start and unit direction, and how far above the node it starts, m.
+  int bend_segment = -1;
+  double bend_depth = 0, bend_lift = 0;
+  Vec3 bend_start = Vec3::Zero(), bend_dir = Vec3(0, 0, -1);
   std::vector<Carrier> carriers;
   std::vector<Seedling> seeds;
   std::vector<Vec3> carrier_axis;  // per seed, its carrier's unit axis

@@ -288,6 +288,12 @@ GroundTruth compute_ground_truth(const Bunch& bunch, double density) {
     for (const auto& b : bunch.berries) on_wing += b.pedicel >= 0 && grapebench::on_wing(bunch, b.pedicel);
     g.wing_berry_share = static_cast<double>(on_wing) / bunch.berries.size();
   }
+  if (bunch.bend >= 0) {
+    const Stem& s = bunch.stems[static_cast<std::size_t>(bunch.bend)];
+    const Stem& above = bunch.stems[static_cast<std::size_t>(s.parent)];
+    const double c = (s.end - s.start).normalized().dot((above.end - above.start).normalized());
+    g.bend_angle = std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI;
+  }
 
   // Bounding box of the whole solid.
   g.bbox_min = Vec3::Constant(std::numeric_limits<double>::infinity());

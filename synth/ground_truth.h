@@ -82,6 +82,7 @@ struct GroundTruth {
   // flat side lowers it), and the share of the berries carried by the wing.
   double horizontal_extent_ratio = 1;
   double wing_berry_share = 0;
+  double bend_angle = 0;  // deg, between the two parts of a bent main axis (Bunch::bend); 0 when straight
   Vec3 cutting_point = Vec3::Zero();
   Vec3 peduncle_direction = Vec3::UnitZ();
   Vec3 bbox_min = Vec3::Zero(), bbox_max = Vec3::Zero();  // whole solid, m

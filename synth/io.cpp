@@ -140,6 +140,8 @@ nlohmann::ordered_json ground_truth_json(const Bunch& b, const GroundTruth& g, c
                     {"definition", "berries' extents along their two horizontal principal axes, minor / major"},
                     {"wing_stem", b.wing},
                     {"wing_berry_share", g.wing_berry_share},
+                    {"bend_stem", b.bend},
+                    {"bend_angle_deg", g.bend_angle},
                     {"flat_side_distance_m", b.flat_side_distance},
                     {"flat_side_normal", vec(b.flat_side_normal)}};
   j["cutting_point_m"] = vec(g.cutting_point);

@@ -91,6 +91,14 @@ const ParamTable<BunchParams>& bunch_param_table() {
             "how much the flat side cuts off: at a random azimuth, the wall stands at (1 - depth) of the round "
             "bunch's reach that way (the same seed packed without the wall, which doubles the bunch's "
             "generation time) from the rachis axis (0.3 is a choice; no published measure was found)")
+      .real("bend_probability", "-", &P::bend_probability, 0, 1,
+            "chance a bunch's main axis bends once: the rachis below a branch node in its lower two thirds "
+            "leaves the part above at bend_angle, a knee joint, with the branches and berries below it (no "
+            "published frequency was found: 0 by default); drawn from its own stream, so a bunch without a "
+            "bend is the one its seed gives at 0")
+      .real("bend_angle", "deg", &P::bend_angle, 2, 45,
+            "the bend's angle between the two parts of the main axis, drawn within +-25 % at a random "
+            "azimuth (20 deg is a choice; no published measure was found)")
       .rgb("berry_colour", &P::berry_colour, "mean berry colour")
       .real("colour_variation", "-", &P::colour_variation, 0, 0.3,
             "sd of the per-berry colour jitter")

@@ -58,6 +58,9 @@ struct BunchParams {
   // Flat side: the bunch grew against a cane or wire (off by default).
   double flat_side_probability = 0;  // chance a bunch has one
   double flat_side_depth = 0.3;      // share of the round bunch's reach towards the wall cut off
+  // Bent main axis: the rachis turns once, at a segment boundary (off by default).
+  double bend_probability = 0;  // chance a bunch's main axis bends
+  double bend_angle = 20;       // deg, the turn between the two parts, drawn within +-25 %
   // Appearance and mass.
   Rgb berry_colour{0.45f, 0.06f, 0.10f};
   double colour_variation = 0.08;  // sd of per-berry colour jitter

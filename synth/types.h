@@ -66,6 +66,9 @@ struct Bunch {
   // A wing: a lateral arm from the peduncle, apart from the main body (Tarter & Poni
   // 2010), carrying its own branches and berries; index of its axis stem, -1 for none.
   int wing = -1;
+  // A bent main axis: the rachis segment that leaves its predecessor at an angle (a
+  // child starting inside it, not stacked coaxially); -1 for a straight axis.
+  int bend = -1;
   // A flat side: a vertical wall (a cane's) the main body's berries were packed against,
   // at `flat_side_distance` m from the rachis axis along the horizontal unit
   // `flat_side_normal` (bunch frame); distance 0 for none.

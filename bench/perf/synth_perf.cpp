@@ -35,12 +35,14 @@ void BM_GenerateOivClass(benchmark::State& state, std::string name) {
   state.counters["bunches_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
-// A flat side (depth 0.3) and a wing against the preset's own setting in the same run:
-// a flat bunch is packed twice (once round, to place its wall).
+// A flat side (depth 0.3) (1), a wing (2) and a bent main axis (3) against the preset's
+// own setting (0) in the same run: a flat bunch is packed twice (once round, to place
+// its wall).
 void BM_GenerateAsymmetric(benchmark::State& state, std::string name) {
   BunchParams p = preset(name);
   p.flat_side_probability = state.range(0) == 1 ? 1 : 0;
   p.wing_probability = state.range(0) == 2 ? 1 : 0;
+  p.bend_probability = state.range(0) == 3 ? 1 : 0;
   std::uint64_t i = 0;
   for (auto _ : state) {
     Bunch b = generate_bunch(p, derive_seed(7, i++));
@@ -85,7 +87,7 @@ BENCHMARK_CAPTURE(BM_Generate, wine_red, std::string("wine-red"))->Unit(benchmar
 BENCHMARK_CAPTURE(BM_Generate, summer_black, std::string("summer-black"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Generate, green_table, std::string("green-table"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_GenerateOivClass, table_red, std::string("table-red"))->Arg(1)->Arg(5)->Arg(9)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_GenerateAsymmetric, table_red, std::string("table-red"))->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_GenerateAsymmetric, table_red, std::string("table-red"))->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, table_red, std::string("table-red"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, wine_red, std::string("wine-red"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_GenerateWithGroundTruth, summer_black, std::string("summer-black"))->Unit(benchmark::kMillisecond);

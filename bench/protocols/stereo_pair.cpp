@@ -24,9 +24,9 @@ double first_branch_height(const Bunch& bunch) {
   for (std::size_t i = 0; i < bunch.stems.size(); ++i) {
     const Stem& s = bunch.stems[i];
     // A branch of the main rachis: not a pedicel, not on the wing (whose side branches
-    // leave it near the peduncle, above the body's first branch).
+    // leave it near the peduncle, above the body's first branch), not a bent main axis.
     const bool branch = s.part == Part::Rachis && s.parent >= 0 && bunch.stems[s.parent].part == Part::Rachis &&
-                        !on_wing(bunch, static_cast<int>(i));
+                        !on_wing(bunch, static_cast<int>(i)) && static_cast<int>(i) != bunch.bend;
     if (branch) z = std::max(z, s.start.z());
   }
   return z;

@@ -4,6 +4,7 @@
 #include "synth/io.h"
 #include "synth/mesh.h"
 #include "synth/params.h"
+#include "synth/stem_geometry.h"
 
 #include <gtest/gtest.h>
 
@@ -197,6 +198,53 @@ TEST(Wing, ABunchWithoutAWingOrAFlatSideIsTheBunchItsSeedGaveBefore) {
   EXPECT_GT(without, 0);
   EXPECT_GT(winged, 0);
   EXPECT_GT(flat, 0);
+}
+
+// A bent main axis: the bend's segment leaves the segment above at the drawn angle
+// (bend_angle within +-25 %), starting on its axis inside it (check_bunch's child
+// rule); the segments below follow it coaxially and their branches start on them; at
+// probability 0.5 a bunch the draw leaves straight is, bit for bit, the bunch of
+// probability 0 (its own stream).
+TEST(Bend, TheAxisTurnsAtTheDrawnAngleAndAStraightBunchIsUnchanged) {
+  BunchParams p = preset("table-red");
+  int bent = 0, straight = 0;
+  for (const std::uint64_t seed : {0, 1, 2, 3}) {
+    p.bend_probability = 0.5;
+    const Bunch b = generate_bunch(p, seed);
+    if (b.bend < 0) {
+      ++straight;
+      p.bend_probability = 0;
+      EXPECT_EQ(bunch_bits(b), bunch_bits(generate_bunch(p, seed))) << "seed " << seed;
+      continue;
+    }
+    ++bent;
+    EXPECT_TRUE(check_bunch(b).empty()) << check_bunch(b).front();
+    const Stem& s = b.stems[static_cast<std::size_t>(b.bend)];
+    ASSERT_GE(s.parent, 0);
+    const Stem& above = b.stems[static_cast<std::size_t>(s.parent)];
+    EXPECT_EQ(s.part, Part::Rachis);
+    EXPECT_EQ(above.part, Part::Rachis);
+    EXPECT_EQ(s.stacked_on, -1);
+    const double angle = compute_ground_truth(b, p.density).bend_angle;
+    EXPECT_GE(angle, 0.75 * p.bend_angle - 1e-9) << "seed " << seed;
+    EXPECT_LE(angle, 1.25 * p.bend_angle + 1e-9) << "seed " << seed;
+    const Vec3 d = (s.end - s.start).normalized();
+    int below = 0, branches = 0;
+    for (std::size_t i = 0; i < b.stems.size(); ++i) {
+      const Stem& t = b.stems[i];
+      if (t.stacked_on >= 0 && (b.stems[static_cast<std::size_t>(t.stacked_on)].end - t.start).norm() < 1e-12 &&
+          std::abs((t.end - t.start).normalized().dot(d) - 1) < 1e-12) {
+        ++below;
+      }
+      if (t.parent == b.bend && t.part == Part::Rachis) {
+        ++branches;
+        EXPECT_LT(point_segment_distance(t.start, s.start, s.end), 1e-9);
+      }
+    }
+    EXPECT_GT(below + branches, 0) << "seed " << seed;  // something hangs on the bent part
+  }
+  EXPECT_GT(bent, 0);
+  EXPECT_GT(straight, 0);
 }
 
 // A flat side: its wall cuts `flat_side_depth` off the round bunch's reach towards it,

@@ -32,10 +32,11 @@ struct Case {
   int oiv = 0;  // OIV 204 class; 0 = the continuous compactness above
   bool wing = false;
   double flat = 0;  // flat_side_depth of a flat side; 0 = none
+  bool bend = false;  // a bent main axis
 };
 void PrintTo(const Case& c, std::ostream* os) {
   *os << c.preset << " compactness " << c.compactness << " oiv " << c.oiv << (c.wing ? " winged" : "")
-      << (c.flat > 0 ? " flat" : "");
+      << (c.flat > 0 ? " flat" : "") << (c.bend ? " bent" : "");
 }
 
 class PresetVolume : public ::testing::TestWithParam<Case> {};
@@ -43,7 +44,8 @@ class PresetVolume : public ::testing::TestWithParam<Case> {};
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   const Case& c = info.param;
   std::string n = c.preset + (c.oiv ? "_oiv" + std::to_string(c.oiv) : c.compactness < 0.5 ? "_loose" : "_compact") +
-                  (c.wing ? "_winged" : "") + (c.flat > 0 ? "_flat" + std::to_string(static_cast<int>(c.flat * 10)) : "");
+                  (c.wing ? "_winged" : "") + (c.flat > 0 ? "_flat" + std::to_string(static_cast<int>(c.flat * 10)) : "") +
+                  (c.bend ? "_bent" : "");
   for (auto& ch : n) ch = ch == '-' ? '_' : ch;
   return n;
 }
@@ -55,12 +57,15 @@ TEST_P(PresetVolume, AnalyticMatchesMonteCarlo) {
   p.wing_probability = GetParam().wing ? 1 : 0;
   p.flat_side_probability = GetParam().flat > 0 ? 1 : 0;
   if (GetParam().flat > 0) p.flat_side_depth = GetParam().flat;
+  p.bend_probability = GetParam().bend ? 1 : 0;
   const Bunch b = generate_bunch(p, 42);
   ASSERT_EQ(b.wing >= 0, GetParam().wing);
+  ASSERT_EQ(b.bend >= 0, GetParam().bend);
   ASSERT_EQ(b.flat_side_distance > 0, GetParam().flat > 0);
   const std::string label = GetParam().preset + (GetParam().oiv ? " OIV " + std::to_string(GetParam().oiv)
                                                                  : " c=" + std::to_string(GetParam().compactness).substr(0, 4)) +
-                            (GetParam().wing ? " winged" : "") + (GetParam().flat > 0 ? " flat" : "");
+                            (GetParam().wing ? " winged" : "") + (GetParam().flat > 0 ? " flat" : "") +
+                            (GetParam().bend ? " bent" : "");
   expect_agrees(b, 1234, label.c_str());
 }
 
@@ -70,7 +75,7 @@ INSTANTIATE_TEST_SUITE_P(AllPresets, PresetVolume,
                                            Case{"summer-black", 0.15}, Case{"summer-black", 0.95},
                                            Case{"green-table", 0.15}, Case{"green-table", 0.95},
                                            Case{"table-red", 0, 1, true}, Case{"table-red", 0, 9, true},
-                                           Case{"wine-red", 0, 9}),
+                                           Case{"wine-red", 0, 9}, Case{"summer-black", 0.95, 0, false, 0, true}),
                          case_name);
 
 // Every OIV class, and flat sides, of table-red: run by hand (docs/synth.md, "Pressed
@@ -81,7 +86,8 @@ INSTANTIATE_TEST_SUITE_P(DISABLED_EveryClass, PresetVolume,
                                            Case{"table-red", 0, 4}, Case{"table-red", 0, 5}, Case{"table-red", 0, 6},
                                            Case{"table-red", 0, 7}, Case{"table-red", 0, 8}, Case{"table-red", 0, 9},
                                            Case{"table-red", 0, 5, false, 0.5}, Case{"table-red", 0, 9, true, 0.3},
-                                           Case{"wine-red", 0, 9, false, 0.5}),
+                                           Case{"wine-red", 0, 9, false, 0.5}, Case{"table-red", 0, 9, false, 0, true},
+                                           Case{"green-table", 0, 5, true, 0.3, true}),
                          case_name);
 
 // Three berries pressed together (a triple overlap), each on a pedicel entering it,

@@ -35,6 +35,18 @@ TEST(StereoPair, AWingDoesNotMoveTheStalksLowerEnd) {
   EXPECT_EQ(winged, 2);
 }
 
+// A bent main axis turns below the first branch and is no branch itself: the stalk's
+// lower end stays where the straight bunch of the same seed has it.
+TEST(StereoPair, ABendDoesNotMoveTheStalksLowerEnd) {
+  BunchParams p = preset("summer-black");
+  p.bend_probability = 0;
+  const double straight = first_branch_height(generate_bunch(p, 5));
+  p.bend_probability = 1;
+  const Bunch b = generate_bunch(p, 5);
+  ASSERT_GE(b.bend, 0);
+  EXPECT_EQ(first_branch_height(b), straight);
+}
+
 // The cluster region's rows: the best-scored "bunch" answer, read as the detection
 // protocol reads answers (a mask, or a box's pixels), against the truth's cluster
 // pixels; a malformed answer fails this estimator's rows instead of the case.
