@@ -244,6 +244,9 @@ void validate_bunch_params(const BunchParams& p, const std::string& where) {
        "rachis_bare_length + branch_spacing must be below rachis_length_min");
   need(p.peduncle_length > 2 * p.peduncle_radius,
        "peduncle_length must exceed twice peduncle_radius");
+  need(p.bend_probability == 0 || p.rachis_radius_bottom < p.rachis_radius_top,
+       "bend_probability above 0 needs rachis_radius_bottom below rachis_radius_top (the bent part starts inside "
+       "the part above it, so it must be thinner)");
 }
 
 void set_bunch_param(BunchParams& p, const std::string& key, const std::string& value) {

@@ -245,6 +245,16 @@ TEST(Bend, TheAxisTurnsAtTheDrawnAngleAndAStraightBunchIsUnchanged) {
   }
   EXPECT_GT(bent, 0);
   EXPECT_GT(straight, 0);
+  // A rachis that does not taper cannot bend (the bent part starts inside the part
+  // above): a named input error, not a silently straight bunch.
+  p.bend_probability = 1;
+  p.rachis_radius_bottom = p.rachis_radius_top;
+  try {
+    generate_bunch(p, 0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bend_probability"), std::string::npos) << e.what();
+  }
 }
 
 // A flat side: its wall cuts `flat_side_depth` off the round bunch's reach towards it,
