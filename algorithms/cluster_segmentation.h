@@ -43,8 +43,9 @@ std::vector<std::uint8_t> cluster_component(const RgbImage& image, ClusterSegmen
 ClusterRegion segment_cluster(const RgbImage& image, const ClusterSegmentationParams& p);
 
 // The region of a given mask (H x W, non-zero on the cluster: the oracle ablation's
-// exact cluster pixels) as segment_cluster makes its own: holes filled, then Eqs. 1-2's
-// geometry; area 0 below min_cluster_px. Throws InputError when the mask is not H x W.
+// exact cluster pixels) as segment_cluster makes its own, holes filled, then Eqs. 1-2's
+// geometry; not dilated and not cut to its largest piece (the exact pixels are the
+// region); area 0 below min_cluster_px. Throws InputError when the mask is not H x W.
 ClusterRegion cluster_region_of_mask(const std::vector<std::uint8_t>& mask, int width, int height,
                                      const ClusterSegmentationParams& p);
 

@@ -250,7 +250,14 @@ class BunchBuilder {
         const int idx = static_cast<int>(bunch.stems.size());
         bunch.stems.push_back(br);
         ++branches;
-        add_carrier(idx, len, bunch.stems[segment[k]].radius, alpha, false);
+        // On a bent part the branch's angle to its own segment is not alpha (it is drawn
+        // from the vertical: branches hang); the carrier needs the real one.
+        const Stem& parent = bunch.stems[segment[k]];
+        const double to_parent =
+            bend_segment >= 0 && k >= bend_segment
+                ? std::acos(std::clamp(d.dot((parent.end - parent.start).normalized()), -1.0, 1.0))
+                : alpha;
+        add_carrier(idx, len, parent.radius, to_parent, false);
         break;
       }
     }
@@ -379,7 +386,12 @@ class BunchBuilder {
           const Vec3 wd = (w.end - w.start).normalized();
           radial = s.anchor - w.start - (s.anchor - w.start).dot(wd) * wd;
         }
-        radial = radial.squaredNorm() > 1e-12 ? radial.normalized() : Vec3(axis.x(), axis.y(), 0);
+        // An anchor on the main axis (the tip carrier) has no outward direction: none (a
+        // bent tip's axis leans, and its lean would push every tip berry one way).
+        const bool main_axis = std::find(segment.begin(), segment.end(), s.carrier) != segment.end();
+        radial = radial.squaredNorm() > 1e-12 ? radial.normalized()
+                 : main_axis                  ? Vec3::Zero()
+                                              : Vec3(axis.x(), axis.y(), 0);
         // One draw per statement, z first: the order GCC gave the unspecified order of
         // a call's arguments, which clang reverses.
         const double jz = rng.normal(), jy = rng.normal(), jx = rng.normal();

@@ -17,11 +17,12 @@ struct GenerationReport {
   int branches = 0;
 };
 
-// Builds one bunch: peduncle, a straight tapering rachis of stacked segments, lateral
-// branches shortening down the bunch, pedicels and berries packed against that tree
-// by a position-based relaxation (gravity, pull towards the axis for compact
-// bunches, bounded pressing between berries), with a wing and a flat side (a wall the
-// body is packed against) when their probabilities draw them. Every contact that the
+// Builds one bunch: peduncle, a tapering rachis of stacked segments (bent once where
+// bend_probability draws it), lateral branches shortening down the bunch, pedicels and
+// berries packed against that tree by a position-based relaxation (gravity, pull
+// towards the axis for compact bunches, bounded pressing between berries), with a wing
+// and a flat side (a wall the body is packed against) when their probabilities draw
+// them. Every contact that the
 // volume formula does not account for is removed, so check_bunch() holds for the result.
 // Same (params, seed) gives the same bunch bit for bit.
 Bunch generate_bunch(const BunchParams& params, std::uint64_t seed,

@@ -55,7 +55,7 @@ const ParamTable<BunchParams>& bunch_param_table() {
       .real("branch_length_bottom", "m", &P::branch_length_bottom, 0.002, 0.2,
             "length of the lowest lateral branch (linear in between)")
       .real("branch_angle", "deg", &P::branch_angle, 15, 85,
-            "angle of the lateral branches from the downward rachis axis")
+            "angle of the lateral branches from the downward vertical (the rachis axis, unless it is bent)")
       .real("branch_radius", "m", &P::branch_radius, 0.0002, 0.005,
             "lateral branch radius")
       .real("pedicel_length_mean", "m", &P::pedicel_length_mean, 0.001, 0.03,
@@ -92,10 +92,11 @@ const ParamTable<BunchParams>& bunch_param_table() {
             "bunch's reach that way (the same seed packed without the wall, which doubles the bunch's "
             "generation time) from the rachis axis (0.3 is a choice; no published measure was found)")
       .real("bend_probability", "-", &P::bend_probability, 0, 1,
-            "chance a bunch's main axis bends once: the rachis below a branch node in its lower two thirds "
-            "leaves the part above at bend_angle, a knee joint, with the branches and berries below it (no "
-            "published frequency was found: 0 by default); drawn from its own stream, so a bunch without a "
-            "bend is the one its seed gives at 0")
+            "chance a bunch's main axis bends once: the rachis below a segment boundary (halfway between two "
+            "branches) in its lower two thirds leaves the part above at bend_angle, a knee joint, with the "
+            "branches below starting on it (a rachis of one segment stays straight; no published frequency was "
+            "found: 0 by default); drawn from its own stream, so a bunch without a bend is the one its seed "
+            "gives at 0")
       .real("bend_angle", "deg", &P::bend_angle, 2, 45,
             "the bend's angle between the two parts of the main axis, drawn within +-25 % at a random "
             "azimuth (20 deg is a choice; no published measure was found)")

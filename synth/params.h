@@ -29,7 +29,7 @@ struct BunchParams {
   // OIV descriptor 204 class, 1 (very loose) .. 9 (very dense); 0 = off. A class sets
   // the drivers above and below from the variety's values (oiv_compactness_params).
   int oiv_compactness = 0;
-  // Rachis: a straight tapering main axis hanging from the peduncle.
+  // Rachis: a tapering main axis hanging from the peduncle (straight unless bent).
   double rachis_length_min = 0.17;  // m
   double rachis_length_max = 0.25;  // m
   double rachis_radius_top = 0.0028;     // m

@@ -257,7 +257,7 @@ void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const
     for (EstimateRow& row : rows) {
       row.frame = static_cast<int>(k);
       row.roi = view.rig.name;
-      if (in.oracle) row.notes = std::string("oracle: ") + pl.oracle_name() + "; " + row.notes;
+      if (in.oracle) row.notes = std::string("oracle: ") + pl.oracle_name() + (row.notes.empty() ? "" : "; " + row.notes);
       r.rows.push_back(std::move(row));
     }
   }

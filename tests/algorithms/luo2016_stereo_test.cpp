@@ -174,6 +174,10 @@ TEST(Luo2016Stereo, AnOracleReplacesTheSegmentationAndTheBerryStagesImage) {
 
   oracle->berry_edges.width = w - 1;  // of another size: an input error naming it
   EXPECT_THROW(luo2016_estimate(in, p), InputError);
+  oracle = std::make_shared<StereoOracle>();
+  oracle->cluster.assign(static_cast<std::size_t>(w) * h - 1, 0);  // one value short
+  in.oracle = oracle;
+  EXPECT_THROW(luo2016_estimate(in, p), InputError);
 }
 
 }  // namespace
