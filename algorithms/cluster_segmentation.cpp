@@ -135,8 +135,7 @@ ClusterRegion cluster_region_of_mask(const std::vector<std::uint8_t>& mask, int 
   r.width = width, r.height = height;
   cv::Mat region(height, width, CV_8U);
   for (std::size_t i = 0; i < mask.size(); ++i) region.data[i] = mask[i] ? 255 : 0;
-  const cv::Mat binary = region.clone();
-  fill_holes(binary, region);
+  fill_holes(region, region);  // its first argument gives only the size
   region_geometry(region, p, r);
   return r;
 }
