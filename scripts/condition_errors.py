@@ -3,6 +3,12 @@
 the bunches, from a run's results.csv (docs/seed000.md, "Across compactness classes").
 
     /usr/bin/python3 scripts/condition_errors.py results/runs/seed000_oiv_classes/results.csv PB,VB,CH,visibility_hull
+
+With --paired KEY (a sweep column taking two values, for example
+bunches.bend_probability), the difference second value minus first, bunch for bunch,
+in points of relative error, per the remaining conditions and estimator:
+
+    /usr/bin/python3 scripts/condition_errors.py results/runs/seed000_bent/results.csv PB,VB,CH,visibility_hull --paired bunches.bend_probability
 """
 import collections
 import csv
@@ -25,11 +31,45 @@ def interval(values):
     return "%+.1f [%+.1f, %+.1f]" % (m, m - h, m + h)
 
 
+def paired(rows, estimators, key):
+    if not rows or key not in rows[0]:
+        sys.exit("condition_errors.py: %s is not a column of the results" % key)
+    values = sorted({r[key] for r in rows}, key=float)
+    if len(values) != 2:
+        sys.exit("condition_errors.py: %s takes %d values (%s); --paired needs 2" % (key, len(values), ", ".join(values)))
+    sweep = [c for c in rows[0] if "." in c and c != key]  # the other sweep columns
+    errors = collections.defaultdict(dict)
+    for r in rows:
+        if r["quantity"] == "volume" and r["estimator"] in estimators and r["ok"] == "1":
+            rest = " ".join("%s=%s" % (c, r[c]) for c in sweep)
+            errors[rest, r["estimator"], r["bunch"]][r[key]] = float(r["rel_error_pct"])
+    diffs = collections.defaultdict(list)
+    for (rest, e, _), d in errors.items():
+        if len(d) == 2:
+            diffs[rest, e].append(d[values[1]] - d[values[0]])
+    print("| condition | " + " | ".join("%s, %s=%s minus %s, points" % (e, key, values[1], values[0]) for e in estimators) + " |")
+    print("|---|" + "---|" * len(estimators))
+    for rest in sorted({k[0] for k in diffs}):
+        cells = [interval(diffs[rest, e]) + " (%d)" % len(diffs[rest, e]) if diffs[rest, e] else "" for e in estimators]
+        print("| %s | %s |" % (rest or "all", " | ".join(cells)))
+
+
 def main():
-    if len(sys.argv) != 3:
+    args = sys.argv[1:]
+    key = None
+    if "--paired" in args:
+        i = args.index("--paired")
+        if i + 1 >= len(args):
+            sys.exit(__doc__)
+        key = args[i + 1]
+        del args[i:i + 2]
+    if len(args) != 2:
         sys.exit(__doc__)
-    rows = list(csv.DictReader(open(sys.argv[1], newline="")))
-    estimators = sys.argv[2].split(",")
+    rows = list(csv.DictReader(open(args[0], newline="")))
+    estimators = args[1].split(",")
+    if key:
+        paired(rows, estimators, key)
+        return
     errors = collections.defaultdict(list)
     rotation = collections.defaultdict(list)
     for r in rows:
