@@ -303,7 +303,9 @@ CaseResult case_from_json(const nlohmann::json& j) {
     e.type = r.at("type").get<std::string>();
     e.quantity = r.at("quantity").get<std::string>();
     e.ok = r.at("ok").get<bool>();
-    e.estimate = r.at("estimate").get<double>();
+    // A failed row's estimate may be NaN, which JSON writes as null.
+    const auto& estimate = r.at("estimate");
+    e.estimate = estimate.is_null() ? std::numeric_limits<double>::quiet_NaN() : estimate.get<double>();
     e.truth = r.at("truth").get<double>();
     if (!std::isfinite(e.truth) || (e.ok && !std::isfinite(e.estimate))) throw std::runtime_error("a row's numbers are not finite");
     e.watertight = r.at("watertight").get<bool>();

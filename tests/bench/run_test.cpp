@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "bench/bench_compare.h"
+#include "bench/case_result.h"
 #include "bench/check.h"
 #include "bench/runner.h"
 #include "file_text.h"
@@ -348,6 +349,32 @@ TEST(Run, InterruptedRunsResumeToTheSameResultsAndThreadsDoNotMatter) {
   { std::ofstream(b / "cases" / "c0000_b0000.json") << "{\"format\": \"grapebench-case-1\", \"key\""; }
   EXPECT_EQ(run_scene_set(set, quiet(b, 2)).computed, 1);
   EXPECT_EQ(slurp(b / "results.csv"), results);
+}
+
+// Reproducer: a failed row's NaN estimate is written as null, and reading null as a
+// double threw, so every case with such a row (most stereo_pair cases) was recomputed
+// on resume instead of reused.
+TEST(Run, ACaseWithAFailedRowsNanEstimateReadsBack) {
+  CaseResult c;
+  c.key = "k";
+  EstimateRow row;
+  row.estimator = "luo";
+  row.type = "luo2016_stereo";
+  row.quantity = "berry_precision";
+  row.estimate = std::nan("");
+  row.truth = 1;
+  row.error = "no berry detected";
+  c.rows.push_back(row);
+  const nlohmann::ordered_json j = case_to_json(c);
+  const nlohmann::json file = nlohmann::json::parse(j.dump());
+  ASSERT_TRUE(file.at("rows").at(0).at("estimate").is_null());
+  const CaseResult back = case_from_json(file);
+  ASSERT_EQ(back.rows.size(), 1u);
+  EXPECT_TRUE(std::isnan(back.rows[0].estimate));
+  EXPECT_EQ(back.rows[0].error, "no berry detected");
+  // An ok row must still have a finite estimate.
+  c.rows[0].ok = true;
+  EXPECT_THROW(case_from_json(nlohmann::json::parse(case_to_json(c).dump())), std::exception);
 }
 
 TEST(Run, TwoShardsMergedEqualTheUnshardedRun) {
@@ -819,6 +846,14 @@ estimators:
   run_scene_set(set, quiet(b, 2));
   EXPECT_EQ(slurp(a / "results.csv"), slurp(b / "results.csv"));
   EXPECT_EQ(slurp(a / "summary.json"), slurp(b / "summary.json"));
+  // Run again: both cases are reused (their failed rows' NaN estimates read back).
+  bool null_estimate = false;
+  for (const auto& e : fs::directory_iterator(a / "cases"))
+    if (e.path().extension() == ".json") null_estimate |= slurp(e.path()).find("\"estimate\": null") != std::string::npos;
+  ASSERT_TRUE(null_estimate) << "no failed row with a NaN estimate to read back";
+  const RunOutcome again = run_scene_set(set, quiet(a, 2));
+  EXPECT_EQ(again.reused, 2);
+  EXPECT_EQ(slurp(a / "results.csv"), slurp(b / "results.csv"));
 }
 
 // A small seed 004 row section (2 vines, 1 bunch each), ideal pass; estimators follow.
