@@ -1,0 +1,152 @@
+#!/usr/bin/python3
+"""Seed 001's rates per condition from stereo_pair runs' results.csv (docs/seed001.md,
+"On Cycles' images"): cut success and berries found with Wilson 95 % intervals, the
+pairs reaching the berry stage, the cluster region's median IoU; and, with --pair A B,
+the two conditions compared pair for pair (the same bunch seed and station), berries
+found B minus A in points with a t-interval over the pairs (the pair is the unit: its
+berries are not independent draws, so the pooled Wilson interval is too narrow).
+
+    /usr/bin/python3 scripts/stereo_rates.py results/runs/seed001_cycles/results.csv \\
+        --pair "seed001_cycles: light=overcast renderer=ray" "seed001_cycles: light=overcast renderer=cycles"
+
+Conditions are named "<scene>: <condition>"; several files may be given, and --pair
+may compare conditions of different runs when their bunch seeds and stations match.
+"""
+import collections
+import csv
+import math
+import statistics
+import sys
+
+# Two-sided 97.5 % quantiles of Student's t for 1..30 degrees of freedom.
+T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145,
+        2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048,
+        2.045, 2.042]
+
+
+def wilson(k, n, z=1.96):
+    if n == 0:
+        return "-"
+    p = k / n
+    d = 1 + z * z / n
+    c = p + z * z / (2 * n)
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    return "%.1f (%.1f-%.1f)" % (100 * p, 100 * (c - h) / d, 100 * (c + h) / d)
+
+
+def t_interval(values):
+    if not values:
+        return "-"
+    m = statistics.mean(values)
+    if len(values) < 2:
+        return "%+.1f" % m
+    t = T975[min(len(values) - 1, len(T975)) - 1]
+    h = t * statistics.stdev(values) / math.sqrt(len(values))
+    return "%+.1f [%+.1f, %+.1f]" % (m, m - h, m + h)
+
+
+def failure(message):
+    if not message:
+        return "ok"
+    for prefix, name in (("cutting point not matched", "not matched"), ("the peduncle ROI is empty", "ROI empty"),
+                         ("no line in the peduncle ROI", "no line")):
+        if message.startswith(prefix):
+            return name
+    return "other"
+
+
+def read(files, estimator):
+    """Per condition, per pair (seed, frame): cut ok, the cut's message, berries found and visible, IoU."""
+    pairs = collections.defaultdict(dict)
+    for f in files:
+        with open(f, newline="") as fh:
+            for r in csv.DictReader(fh):
+                if estimator and r["estimator"] != estimator:
+                    continue
+                cond = "%s: %s" % (r["scene"], r["condition"])
+                p = pairs[cond].setdefault((r["seed"], r["frame"]), {})
+                q = r["quantity"]
+                if q == "cut_success":
+                    p["cut"] = float(r["estimate"]) == 1
+                    p["message"] = r["message"]
+                    # Rows without a message reached every stage (the berries' too).
+                    p["ran"] = not r["message"]
+                elif q == "berries_found" and r["ok"] == "1":
+                    p["found"], p["visible"] = float(r["estimate"]), float(r["truth"])
+                elif q == "cluster_iou" and r["ok"] == "1":
+                    p["iou"] = float(r["estimate"])
+    if not pairs:
+        sys.exit("stereo_rates.py: no stereo_pair rows in %s" % ", ".join(files))
+    return pairs
+
+
+def table(pairs):
+    print("| condition | pairs | cut success % | not matched / ROI empty / no line / off the stalk or other | "
+          "berries found / visible %, all pairs | pairs reaching the berry stage | berries on them % | cluster IoU, median |")
+    print("|---|---|---|---|---|---|---|---|")
+    for cond in sorted(pairs):
+        ps = [p for p in pairs[cond].values() if "cut" in p]
+        n, ok = len(ps), sum(p["cut"] for p in ps)
+        split = collections.Counter(failure(p["message"]) for p in ps if not p["cut"])
+        found = sum(p.get("found", 0) for p in ps)
+        visible = sum(p.get("visible", 0) for p in ps)
+        ran = [p for p in ps if p["ran"]]
+        rf, rv = sum(p.get("found", 0) for p in ran), sum(p.get("visible", 0) for p in ran)
+        ious = [p["iou"] for p in ps if "iou" in p]
+        print("| %s | %d | %s [%d] | %d / %d / %d / %d | %s | %d | %s | %s |" % (
+            cond, n, wilson(ok, n), ok, split["not matched"], split["ROI empty"], split["no line"],
+            split["ok"] + split["other"], wilson(found, visible), len(ran), wilson(rf, rv),
+            "%.2f" % statistics.median(ious) if ious else "-"))
+
+
+def compare(pairs, a, b):
+    for c in (a, b):
+        if c not in pairs:
+            sys.exit("stereo_rates.py: no condition '%s'; the conditions are: %s" % (c, "; ".join(sorted(pairs))))
+    common = sorted(set(pairs[a]) & set(pairs[b]))
+    both = collections.Counter()
+    diffs, diffs_ran = [], []
+    for k in common:
+        pa, pb = pairs[a][k], pairs[b][k]
+        if "cut" not in pa or "cut" not in pb:
+            continue
+        both[pa["cut"], pb["cut"]] += 1
+        if pa.get("visible") and pb.get("visible"):
+            d = 100 * (pb["found"] / pb["visible"] - pa["found"] / pa["visible"])
+            diffs.append(d)
+            if pa["ran"] and pb["ran"]:
+                diffs_ran.append(d)
+    print("\n%s minus %s, pair for pair (%d pairs):" % (b, a, len(common)))
+    print("- cut success: both %d, only the first %d, only the second %d, neither %d" % (
+        both[True, True], both[True, False], both[False, True], both[False, False]))
+    print("- berries found, points: all pairs %s (%d); pairs where both reach the berry stage %s (%d)" % (
+        t_interval(diffs), len(diffs), t_interval(diffs_ran), len(diffs_ran)))
+
+
+def main():
+    args = sys.argv[1:]
+    estimator, compares = None, []
+    files = []
+    i = 0
+    while i < len(args):
+        if args[i] == "--estimator" and i + 1 < len(args):
+            estimator = args[i + 1]
+            i += 2
+        elif args[i] == "--pair" and i + 2 < len(args):
+            compares.append((args[i + 1], args[i + 2]))
+            i += 3
+        elif args[i].startswith("-"):
+            sys.exit(__doc__)
+        else:
+            files.append(args[i])
+            i += 1
+    if not files:
+        sys.exit(__doc__)
+    pairs = read(files, estimator)
+    table(pairs)
+    for a, b in compares:
+        compare(pairs, a, b)
+
+
+if __name__ == "__main__":
+    main()
