@@ -18,10 +18,7 @@ import math
 import statistics
 import sys
 
-# Two-sided 97.5 % quantiles of Student's t for 1..30 degrees of freedom.
-T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145,
-        2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048,
-        2.045, 2.042]
+from condition_errors import interval  # Student's t, 95 %
 
 
 def wilson(k, n, z=1.96):
@@ -35,14 +32,7 @@ def wilson(k, n, z=1.96):
 
 
 def t_interval(values):
-    if not values:
-        return "-"
-    m = statistics.mean(values)
-    if len(values) < 2:
-        return "%+.1f" % m
-    t = T975[min(len(values) - 1, len(T975)) - 1]
-    h = t * statistics.stdev(values) / math.sqrt(len(values))
-    return "%+.1f [%+.1f, %+.1f]" % (m, m - h, m + h)
+    return interval(values) if values else "-"
 
 
 def failure(message):
