@@ -36,8 +36,9 @@ def t_interval(values):
 
 
 def failure(message):
+    """Why a cut failed; no message: it was found and matched but lies off the stalk."""
     if not message:
-        return "ok"
+        return "off the stalk"
     for prefix, name in (("cutting point not matched", "not matched"), ("the peduncle ROI is empty", "ROI empty"),
                          ("no line in the peduncle ROI", "no line")):
         if message.startswith(prefix):
@@ -85,7 +86,7 @@ def table(pairs):
         ious = [p["iou"] for p in ps if "iou" in p]
         print("| %s | %d | %s [%d] | %d / %d / %d / %d | %s | %d | %s | %s |" % (
             cond, n, wilson(ok, n), ok, split["not matched"], split["ROI empty"], split["no line"],
-            split["ok"] + split["other"], wilson(found, visible), len(ran), wilson(rf, rv),
+            split["off the stalk"] + split["other"], wilson(found, visible), len(ran), wilson(rf, rv),
             "%.2f" % statistics.median(ious) if ious else "-"))
 
 
