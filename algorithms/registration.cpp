@@ -162,6 +162,17 @@ void principal_frame(const PointCloud& c, Eigen::Matrix3d& axes, Eigen::Vector3d
   for (int k = 0; k < 3; ++k) axes.col(k) = es.eigenvectors().col(2 - k);
 }
 
+// Bro, Acar & Kolda (2008)'s sign rule for points: each of the first two axes
+// towards the side where sum(sign(p) p^2) of the projections p is positive; the third
+// their cross product, so the frame is a proper rotation.
+void skew_signs(const PointCloud& c, const Eigen::Vector3d& centre, Eigen::Matrix3d& axes) {
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::VectorXd p = (c.rowwise() - centre.transpose()) * axes.col(k);
+    if (p.dot(p.cwiseAbs()) < 0) axes.col(k) = -axes.col(k);
+  }
+  axes.col(2) = axes.col(0).cross(axes.col(1));
+}
+
 }  // namespace
 
 IcpResult icp_align(const PointCloud& source, const PointCloud& target, const Eigen::Isometry3d& initial,
@@ -175,13 +186,21 @@ IcpResult icp_align(const PointCloud& source, const PointCloud& target, const Ei
   return icp_loop(source, target, p.point_to_plane ? plane_normals(target) : PointCloud(), initial, p);
 }
 
-Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& target) {
+Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& target, PcaSign sign) {
   require_points(source, 3, "pca alignment source");
   require_points(target, 3, "pca alignment target");
   Eigen::Matrix3d as, at;
   Eigen::Vector3d cs, ct;
   principal_frame(source, as, cs);
   principal_frame(target, at, ct);
+  if (sign == PcaSign::skew) {
+    skew_signs(source, cs, as);
+    skew_signs(target, ct, at);
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = at * as.transpose();
+    t.translation() = ct - t.linear() * cs;
+    return t;
+  }
   // Eigenvector signs are arbitrary: of the four proper sign choices take the
   // rotation with the largest trace (smallest angle).
   Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
@@ -203,7 +222,7 @@ Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& targ
 }
 
 RegistrationResult register_seed000(const std::vector<RegistrationView>& views, const IcpParams& icp,
-                                    int group_size) {
+                                    int group_size, PcaSign sign) {
   if (views.empty()) throw InputError("registration: no views");
   if (group_size < 1) throw InputError("registration: group_size must be at least 1");
   RegistrationResult r;
@@ -216,7 +235,7 @@ RegistrationResult register_seed000(const std::vector<RegistrationView>& views, 
     heads.push_back(g);
     PointCloud merged = views[g].points;
     for (std::size_t k = g + 1; k < std::min(views.size(), g + static_cast<std::size_t>(group_size)); ++k) {
-      const IcpResult res = icp_align(views[k].points, merged, pca_alignment(views[k].points, merged), icp);
+      const IcpResult res = icp_align(views[k].points, merged, pca_alignment(views[k].points, merged, sign), icp);
       r.poses[k] = res.transform;
       r.icp[k] = res;
       append(merged, transformed(views[k].points, res.transform));
@@ -226,7 +245,7 @@ RegistrationResult register_seed000(const std::vector<RegistrationView>& views, 
   // Groups onto A1.
   r.merged = groups[0];
   for (std::size_t g = 1; g < groups.size(); ++g) {
-    const IcpResult res = icp_align(groups[g], r.merged, pca_alignment(groups[g], r.merged), icp);
+    const IcpResult res = icp_align(groups[g], r.merged, pca_alignment(groups[g], r.merged, sign), icp);
     const std::size_t head = heads[g];
     for (std::size_t k = head; k < std::min(views.size(), head + static_cast<std::size_t>(group_size)); ++k) {
       r.poses[k] = res.transform * r.poses[k];

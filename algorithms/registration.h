@@ -39,10 +39,22 @@ struct IcpResult {
 IcpResult icp_align(const PointCloud& source, const PointCloud& target, const Eigen::Isometry3d& initial,
                     const IcpParams& params);
 
+// How a principal axis gets its sign, which PCA leaves open (seed 000 does not say).
+enum class PcaSign {
+  // Of the four proper sign choices, the rotation closest to the identity. The
+  // candidates always include the cloud's own frame turned by 180 deg about an axis, so
+  // a cloud turned by more than about 90 deg is put back near the identity.
+  nearest,
+  // Each axis towards the side holding more of the points' squared projections (Bro,
+  // Acar & Kolda 2008, J. Chemometrics 22:135), the third axis then fixed for a proper
+  // frame: the frame turns with an asymmetric cloud by any angle.
+  skew,
+};
+
 // Coarse alignment by principal axes (seed 000): centroid onto centroid, the source's
-// PCA frame onto the target's, choosing among the sign flips of the axes the proper
-// rotation closest to the identity.
-Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& target);
+// PCA frame onto the target's, the axes' signs by `sign`.
+Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& target,
+                                PcaSign sign = PcaSign::nearest);
 
 // One view as registration sees it: points in its camera frame.
 struct RegistrationView {
@@ -64,7 +76,7 @@ struct RegistrationResult {
 // PCA-aligned then ICP'd onto its group's first view; then the groups the same way
 // onto A1.
 RegistrationResult register_seed000(const std::vector<RegistrationView>& views, const IcpParams& icp,
-                                    int group_size = 3);
+                                    int group_size = 3, PcaSign sign = PcaSign::nearest);
 // seed 002: each side view rotated by its known turntable angle (Eq. 1) and ICP'd
 // onto the merged cloud so far; the bottom view rotated by its nominal mounting,
 // centroid-aligned, then ICP on the lowest `bottom_band` metres (Eqs. 3-4).

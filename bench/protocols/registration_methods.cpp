@@ -16,7 +16,8 @@ struct PlainIcpParams {
 
 struct Seed000Params {
   IcpParams icp;
-  int group_size = 3;  // views per group (seed 000: 3)
+  int group_size = 3;                  // views per group (seed 000: 3)
+  PcaSign pca_sign = PcaSign::nearest;  // seed 000 does not say how the axes get their signs
 };
 
 struct KnownAngleParams {
@@ -62,10 +63,14 @@ const Registry<RegistrationMethod>& registration_registry() {
                    return RegistrationOutcome{c.rig_poses, false};
                  }),
           method("seed000_pca_icp", "views in groups, PCA coarse alignment then ICP (seed 000)",
-                 with_icp<Seed000Params>().integer("group_size", "count", &Seed000Params::group_size, 1, 360,
-                                                   "views per group (seed 000: 3)"),
+                 with_icp<Seed000Params>()
+                     .integer("group_size", "count", &Seed000Params::group_size, 1, 360, "views per group (seed 000: 3)")
+                     .choice("pca_sign", &Seed000Params::pca_sign, {{"nearest", PcaSign::nearest}, {"skew", PcaSign::skew}},
+                             "the axes' signs, which seed 000 leaves open: nearest, the rotation closest to the "
+                             "identity (a group turned past 90 deg comes back near it); skew, towards the side "
+                             "holding more of the squared projections (Bro, Acar & Kolda 2008)"),
                  [](const Seed000Params& p, std::vector<RegistrationView>& views, const RegistrationContext&) {
-                   return estimated(register_seed000(views, p.icp, p.group_size));
+                   return estimated(register_seed000(views, p.icp, p.group_size, p.pca_sign));
                  }),
           method("known_angle_icp", "known turntable angles then ICP; the bottom view on the lowest band (seed 002 Eqs. 1-4)",
                  with_icp<KnownAngleParams>()
