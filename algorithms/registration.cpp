@@ -162,15 +162,20 @@ void principal_frame(const PointCloud& c, Eigen::Matrix3d& axes, Eigen::Vector3d
   for (int k = 0; k < 3; ++k) axes.col(k) = es.eigenvectors().col(2 - k);
 }
 
-// Bro, Acar & Kolda (2008)'s sign rule for points: each of the first two axes
-// towards the side where sum(sign(p) p^2) of the projections p is positive; the third
-// their cross product, so the frame is a proper rotation.
-void skew_signs(const PointCloud& c, const Eigen::Vector3d& centre, Eigen::Matrix3d& axes) {
+// Bro, Acar & Kolda (2008, J. Chemometrics 22:135)'s sign rule for points: each of
+// the first two axes towards the side where sum(sign(p) p^2) of the projections p is
+// positive; the third their cross product, so the frame is a proper rotation. False
+// where a sum is below 1e-6 of sum(|p|^3) (a cloud symmetric about the axis): there
+// the sign is not the data's, and the caller falls back to the nearest rule.
+bool skew_signs(const PointCloud& c, const Eigen::Vector3d& centre, Eigen::Matrix3d& axes) {
   for (int k = 0; k < 2; ++k) {
     const Eigen::VectorXd p = (c.rowwise() - centre.transpose()) * axes.col(k);
-    if (p.dot(p.cwiseAbs()) < 0) axes.col(k) = -axes.col(k);
+    const double skew = p.dot(p.cwiseAbs());
+    if (!(std::abs(skew) > 1e-6 * p.cwiseAbs().array().cube().sum())) return false;
+    if (skew < 0) axes.col(k) = -axes.col(k);
   }
   axes.col(2) = axes.col(0).cross(axes.col(1));
+  return true;
 }
 
 }  // namespace
@@ -193,9 +198,10 @@ Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& targ
   Eigen::Vector3d cs, ct;
   principal_frame(source, as, cs);
   principal_frame(target, at, ct);
-  if (sign == PcaSign::skew) {
-    skew_signs(source, cs, as);
-    skew_signs(target, ct, at);
+  Eigen::Matrix3d ss = as, st = at;
+  if (sign == PcaSign::skew && skew_signs(source, cs, ss) && skew_signs(target, ct, st)) {
+    as = ss;
+    at = st;
     Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
     t.linear() = at * as.transpose();
     t.translation() = ct - t.linear() * cs;

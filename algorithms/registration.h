@@ -41,13 +41,14 @@ IcpResult icp_align(const PointCloud& source, const PointCloud& target, const Ei
 
 // How a principal axis gets its sign, which PCA leaves open (seed 000 does not say).
 enum class PcaSign {
-  // Of the four proper sign choices, the rotation closest to the identity. The
-  // candidates always include the cloud's own frame turned by 180 deg about an axis, so
-  // a cloud turned by more than about 90 deg is put back near the identity.
+  // Of the four proper sign choices, the rotation closest to the identity: never a
+  // turn above 120 deg (the candidates are the true turn and it composed with a half
+  // turn about each axis), and a half turn about a principal axis comes back as none.
   nearest,
-  // Each axis towards the side holding more of the points' squared projections (Bro,
-  // Acar & Kolda 2008, J. Chemometrics 22:135), the third axis then fixed for a proper
-  // frame: the frame turns with an asymmetric cloud by any angle.
+  // The first two axes each towards the side holding more of the points' squared
+  // projections (Bro, Acar & Kolda 2008, J. Chemometrics 22:135), the third their
+  // cross product: the frame turns with a cloud skewed along both axes by any angle.
+  // Where either cloud is symmetric about one of them, the nearest rule.
   skew,
 };
 

@@ -67,8 +67,8 @@ const Registry<RegistrationMethod>& registration_registry() {
                      .integer("group_size", "count", &Seed000Params::group_size, 1, 360, "views per group (seed 000: 3)")
                      .choice("pca_sign", &Seed000Params::pca_sign, {{"nearest", PcaSign::nearest}, {"skew", PcaSign::skew}},
                              "the axes' signs, which seed 000 leaves open: nearest, the rotation closest to the "
-                             "identity (a group turned past 90 deg comes back near it); skew, towards the side "
-                             "holding more of the squared projections (Bro, Acar & Kolda 2008)"),
+                             "identity (never past 120 deg; a half turn about an axis comes back as none); skew, "
+                             "towards the side holding more of the squared projections (Bro, Acar & Kolda 2008)"),
                  [](const Seed000Params& p, std::vector<RegistrationView>& views, const RegistrationContext&) {
                    return estimated(register_seed000(views, p.icp, p.group_size, p.pca_sign));
                  }),
