@@ -200,10 +200,8 @@ Eigen::Isometry3d pca_alignment(const PointCloud& source, const PointCloud& targ
   principal_frame(target, at, ct);
   Eigen::Matrix3d ss = as, st = at;
   if (sign == PcaSign::skew && skew_signs(source, cs, ss) && skew_signs(target, ct, st)) {
-    as = ss;
-    at = st;
     Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    t.linear() = at * as.transpose();
+    t.linear() = st * ss.transpose();
     t.translation() = ct - t.linear() * cs;
     return t;
   }
