@@ -38,15 +38,21 @@ def cell(rows, key, fmt, scale=1.0):
     return (fmt + " (" + fmt + ")") % (statistics.mean(values), sd)
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def parser(doc, out):
+    """The arguments every table script of the generator takes."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("grapebench")
     ap.add_argument("--count", type=int, default=16)
     ap.add_argument("--seed", type=int, default=424242)
+    ap.add_argument("--out", default=out)
+    ap.add_argument("--alpha", type=float, default=0.01, help="alpha wrap's carving radius, m; 0: no wrap")
+    return ap
+
+
+def main():
+    ap = parser(__doc__, "results/oiv_table")
     ap.add_argument("--presets", default="table-red,wine-red,summer-black,green-table")
     ap.add_argument("--classes", default="1,3,5,7,9")
-    ap.add_argument("--out", default="results/oiv_table")
-    ap.add_argument("--alpha", type=float, default=0.01, help="alpha wrap's carving radius, m; 0: no wrap")
     ap.add_argument("--settings", default="all", choices=["all", "classes"],
                     help="classes: the OIV classes and the densest continuous setting only")
     a = ap.parse_args()

@@ -23,6 +23,7 @@ TEST_P(EveryPreset, ContactsAreOnlyThoseTheFormulaAccountsFor) {
   for (double c : {0.0, 0.5, 1.0}) {
     BunchParams p = preset(GetParam());
     p.compactness = c;
+    p.oiv_compactness = 0;  // a variety preset's class would override c
     for (std::uint64_t seed = 0; seed < 2; ++seed) {
       const Bunch b = generate_bunch(p, seed);  // throws when check_bunch finds a contact (as for every bunch)
       EXPECT_LE(berry_contacts(b).depth_max, c * p.max_press_depth * (1 + 1e-6) + 1e-9);
@@ -90,6 +91,39 @@ std::uint64_t bunch_bits(const Bunch& b) {
 // A seed names one bunch whatever compiled the generator: its draws are sequenced
 // (the pedicels' jitter was drawn in a call's arguments, whose order GCC and clang
 // take differently, so clang's builds grew other bunches). The bits were GCC's.
+// The variety presets against their sources (docs/synth.md, "Variety presets"): over 4
+// bunches, the mean bunch mass inside the published range of means and the mean length
+// (vertical, without the peduncle) inside the published length where there is one; each
+// keeps its class and wings.
+TEST(VarietyPresets, MassAndLengthWithinThePublishedRanges) {
+  struct Source {
+    const char* name;
+    double mass_lo, mass_hi;      // g
+    double length_lo, length_hi;  // m; 0, 0 when none was found
+    int oiv;
+  };
+  for (const Source& s : {Source{"red-globe", 650, 850, 0, 0, 5},
+                          Source{"cabernet-sauvignon", 73, 157, 0.12, 0.15, 5},
+                          Source{"summer-black-ga", 600, 940, 0.16, 0.23, 7},
+                          Source{"italia", 400, 700, 0.19, 0.23, 3}}) {
+    const BunchParams p = preset(s.name);
+    EXPECT_EQ(p.oiv_compactness, s.oiv) << s.name;
+    double mass = 0, length = 0;
+    for (std::uint64_t seed = 0; seed < 4; ++seed) {
+      const Bunch b = generate_bunch(p, seed);
+      const GroundTruth g = compute_ground_truth(b, p.density);
+      mass += g.mass / 4;
+      length += g.height / 4;
+    }
+    EXPECT_GE(mass, s.mass_lo) << s.name;
+    EXPECT_LE(mass, s.mass_hi) << s.name;
+    if (s.length_hi > 0) {
+      EXPECT_GE(length, s.length_lo) << s.name;
+      EXPECT_LE(length, s.length_hi) << s.name;
+    }
+  }
+}
+
 TEST(Generate, ASeedGivesTheSameBitsOnEveryCompiler) {
   EXPECT_EQ(bunch_bits(generate_bunch(preset("table-red"), 7)), 13821697721003150845ULL);
   EXPECT_EQ(bunch_bits(generate_bunch(preset("wine-red"), 20261122)), 8047212741813460536ULL);

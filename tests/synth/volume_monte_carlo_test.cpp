@@ -75,10 +75,12 @@ INSTANTIATE_TEST_SUITE_P(AllPresets, PresetVolume,
                                            Case{"summer-black", 0.15}, Case{"summer-black", 0.95},
                                            Case{"green-table", 0.15}, Case{"green-table", 0.95},
                                            Case{"table-red", 0, 1, true}, Case{"table-red", 0, 9, true},
-                                           Case{"wine-red", 0, 9}, Case{"summer-black", 0.95, 0, false, 0, true}),
+                                           Case{"wine-red", 0, 9}, Case{"summer-black", 0.95, 0, false, 0, true},
+                                           // Two variety presets as they are: their class, and Italia's wing.
+                                           Case{"italia", 0, 3, true}, Case{"summer-black-ga", 0, 7}),
                          case_name);
 
-// Every OIV class, and flat sides, of table-red: run by hand (docs/synth.md, "Pressed
+// Every OIV class, and flat sides, of table-red, and the other two variety presets: run by hand (docs/synth.md, "Pressed
 // berries stay exact"), 2 s a case:
 //   synth_tests --gtest_also_run_disabled_tests --gtest_filter='DISABLED_EveryClass/*'
 INSTANTIATE_TEST_SUITE_P(DISABLED_EveryClass, PresetVolume,
@@ -87,7 +89,8 @@ INSTANTIATE_TEST_SUITE_P(DISABLED_EveryClass, PresetVolume,
                                            Case{"table-red", 0, 7}, Case{"table-red", 0, 8}, Case{"table-red", 0, 9},
                                            Case{"table-red", 0, 5, false, 0.5}, Case{"table-red", 0, 9, true, 0.3},
                                            Case{"wine-red", 0, 9, false, 0.5}, Case{"table-red", 0, 9, false, 0, true},
-                                           Case{"green-table", 0, 5, true, 0.3, true}),
+                                           Case{"green-table", 0, 5, true, 0.3, true},
+                                           Case{"red-globe", 0, 5, true}, Case{"cabernet-sauvignon", 0, 5, true}),
                          case_name);
 
 // Three berries pressed together (a triple overlap), each on a pedicel entering it,
