@@ -34,7 +34,11 @@ def interval(values):
 def paired(rows, estimators, key):
     if not rows or key not in rows[0]:
         sys.exit("condition_errors.py: %s is not a column of the results" % key)
-    values = sorted({r[key] for r in rows}, key=float)
+    values = list(dict.fromkeys(r[key] for r in rows))  # the sweep's order
+    try:
+        values.sort(key=float)
+    except ValueError:  # a string axis (a registration type, a preset) keeps the sweep's order
+        pass
     if len(values) != 2:
         sys.exit("condition_errors.py: %s takes %d values (%s); --paired needs 2" % (key, len(values), ", ".join(values)))
     sweep = [c for c in rows[0] if "." in c and c != key]  # the other sweep columns

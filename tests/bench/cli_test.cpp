@@ -330,6 +330,8 @@ TEST(Cli, ASandboxedProgramFindsNoTruth) {
   for (const std::string& seen : {out.string(), other.string(), scene.string(), std::string("/cmdline")})
     EXPECT_NE(open[0].find(seen), std::string::npos) << seen << " in " << open[0];
   fs::remove_all(other);
+  fs::remove_all(shared);  // the working folder is left as it was found
+  fs::remove(scene);
 }
 
 // Issue 39: every other program the harness starts (COLMAP's steps, Blender) runs
