@@ -88,9 +88,13 @@ Material leaf_material(const AppearanceParams& a, const Vec3& point, const Vec3&
   return m;
 }
 
+double wood_texture_factor(const AppearanceParams& a, const Vec3& point) {
+  return 1 + a.wood_texture * value_noise(point, 0.002, 0x57e3);
+}
+
 Material wood_material(const AppearanceParams& a, const Vec3& point, const Rgb& colour) {
   Material m;
-  m.albedo = scaled(colour, 1 + a.wood_texture * value_noise(point, 0.002, 0x57e3));
+  m.albedo = scaled(colour, wood_texture_factor(a, point));
   m.transmittance = {0, 0, 0};
   m.specular = 0;
   m.roughness = 1;

@@ -58,6 +58,9 @@ Material leaf_material(const AppearanceParams& a, const Vec3& point, const Vec3&
                        const Vec3& normal, double shade, bool upper);
 // Stems, canes and the cordon: their synth colour with a fixed surface variation.
 Material wood_material(const AppearanceParams& a, const Vec3& point, const Rgb& colour);
+// That variation at `point` (m, world): the factor on the colour, 1 + wood_texture x
+// value noise of 2 mm cells, in [1 - wood_texture, 1 + wood_texture].
+double wood_texture_factor(const AppearanceParams& a, const Vec3& point);
 // Smooth value noise in [-1, 1] with cells of `cell` m, fixed to the surface.
 double value_noise(const Vec3& point, double cell, std::uint64_t salt);
 

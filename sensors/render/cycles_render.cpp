@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sensors/render/row_copies.h"
+#include "sensors/render/wood_atlas.h"
 #include "synth/confined_program.h"
 #include "synth/png.h"
 
@@ -124,6 +125,11 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   s["berry_material"] = {{"f0", bm.specular}, {"alpha", bm.roughness}};
   if (bunch.berries.empty()) s["berry_material"] = {{"f0", look.skin_f0}, {"alpha", look.skin_roughness}};
   json cylinders = json::array();
+  // The wood texture's atlas covers every drawn cylinder: the scene's own at
+  // `wood_texel`, the row copies (0.8 m and more further off) at twice it.
+  std::vector<Stem> wood;
+  std::vector<double> wood_texel;
+  std::vector<std::size_t> wood_of;  // cylinder -> its rectangle in the atlas (npos: not drawn)
   const auto cylinder = [&](const Stem& st, const Rgb& colour, bool labelled) {
     cylinders.push_back({{"start", j3(st.start)},
                          {"end", j3(st.end)},
@@ -131,12 +137,41 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
                          {"albedo", jc(colour)},
                          {"id", labelled ? static_cast<int>(part_of_id.size()) : 0}});
     if (labelled) part_of_id.push_back(st.part);
+    const bool drawn = st.radius > 0 && (st.end - st.start).norm() > 0;
+    wood_of.push_back(drawn ? wood.size() : std::string::npos);
+    if (drawn) {
+      wood.push_back(st);
+      wood_texel.push_back(labelled ? cycles.wood_texel : 2 * cycles.wood_texel);
+    }
   };
   for (const Stem& st : bunch.stems) cylinder(st, bunch.stem_colour, true);
   const Foliage& f = scene.foliage();
   for (const Stem& st : f.canes) cylinder(st, f.colour_of(st), true);
   const RowCopies rows = row_copies(f, look, scene.bunch_min().z() - look.ground_below);
   for (const Stem& st : rows.foliage.canes) cylinder(st, f.colour_of(st), false);
+  if (look.wood_texture > 0 && !wood.empty()) {
+    const WoodAtlas atlas = wood_atlas(wood, wood_texel, look);
+    for (std::size_t i = 0; i < cylinders.size(); ++i) {
+      if (wood_of[i] == std::string::npos) continue;
+      const WoodAtlasPlacement& p = atlas.placement[wood_of[i]];
+      cylinders[i]["x_axis"] = j3(p.x_axis);
+      // Texel centres: the point at `along` fraction t and angle a is texel
+      // (x0 + 0.5 + t along, y0 + 0.5 + (a / 2 pi + 1 / 2) around).
+      cylinders[i]["atlas_origin"] = json::array({p.x0 + 0.5, p.y0 + 0.5, 0.0});
+      cylinders[i]["atlas_steps"] = json::array({p.along, p.around, 0});
+    }
+    std::vector<unsigned char> bytes(atlas.factor.size() * 2);
+    for (int y = 0; y < atlas.height; ++y) {  // PNG rows run down the image, the atlas's up
+      for (int x = 0; x < atlas.width; ++x) {
+        const std::uint16_t v = atlas.factor[static_cast<std::size_t>(y) * atlas.width + x];
+        const std::size_t at = 2 * (static_cast<std::size_t>(atlas.height - 1 - y) * atlas.width + x);
+        bytes[at] = static_cast<unsigned char>(v >> 8);
+        bytes[at + 1] = static_cast<unsigned char>(v & 0xff);
+      }
+    }
+    write_file(work / "wood.png", png_bytes(atlas.width, atlas.height, 16, 0, bytes));
+    s["wood"] = {{"png", "wood.png"}, {"width", atlas.width}, {"height", atlas.height}, {"amplitude", look.wood_texture}};
+  }
   s["cylinders"] = cylinders;
 
   // The leaf atlas: one square cell per leaf of the scene, the leaf's own plane mapped
@@ -292,6 +327,9 @@ const ParamTable<CyclesParams>& cycles_param_table() {
           .real("time_limit", "s", &P::time_limit, 1, 86400, "per image, Blender's start included; past it, stopped")
           .integer("leaf_texels", "count", &P::leaf_texels, 16, 2048,
                    "texels per leaf side of the baked leaf atlas (veins 0.8 mm wide need about 0.3 mm texels)")
+          .real("wood_texel", "m", &P::wood_texel, 1e-4, 0.01,
+                "texel of the baked wood texture (2 mm value noise) on the scene's stems and canes; the row "
+                "copies' twice it")
           .choice("sandbox", &P::sandbox, {{"bwrap", ProgramLimits::Sandbox::Bwrap}, {"none", ProgramLimits::Sandbox::None}},
                   "bwrap: Blender sees the system's folders, its script and its work folder only (as every "
                   "program the harness starts); none: where user namespaces are not available");

@@ -1,5 +1,6 @@
 // The physically based reference: the same scene (berries as spheres, stems and canes
-// as capped cylinders, the leaves with their texture and veins baked into an atlas,
+// as capped cylinders with their wood texture baked into an atlas (wood_atlas.h), the
+// leaves with their texture and veins baked into an atlas,
 // the row copies, ground, sun and sky, the camera with its thin lens) exported to
 // Blender and rendered by Cycles, headless, through sensors/render/cycles_scene.py.
 // Path tracing with every bounce; the materials are the appearance model's
@@ -26,6 +27,7 @@ struct CyclesParams {
   int threads = 2;            // Cycles' render threads, [1, 256]
   double time_limit = 600;    // s per image, Blender's start included, [1, 86400]
   int leaf_texels = 256;      // texels per leaf side in the leaf atlas, [16, 2048]
+  double wood_texel = 0.0005; // m, texel of the baked wood texture on the scene's stems and canes (row copies: twice), [1e-4, 0.01]
   ProgramLimits::Sandbox sandbox = ProgramLimits::Sandbox::Bwrap;  // as every program the harness starts
 };
 const ParamTable<CyclesParams>& cycles_param_table();

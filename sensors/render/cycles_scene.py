@@ -176,11 +176,31 @@ def parse(doc, folder):
         s["berry_f0"] = num(bm, "f0", "berry_material", 0.0, 1.0)
         s["berry_alpha"] = num(bm, "alpha", "berry_material", 0.0, 1.0)
 
+    # The wood texture's atlas (sensors/render/wood_atlas.h): optional; with it, each drawn
+    # cylinder names its frame and its rectangle.
+    if "wood" in doc:
+        wd = _key(doc, "wood", "")
+        s["wood_png"] = os.path.join(folder, string(wd, "png", "wood"))
+        if not os.path.isfile(s["wood_png"]):
+            raise SceneError("wood.png: no file %s" % s["wood_png"])
+        s["wood_width"] = integer(wd, "width", "wood", 1, 1 << 16)
+        s["wood_height"] = integer(wd, "height", "wood", 1, 1 << 16)
+        s["wood_amplitude"] = num(wd, "amplitude", "wood", 0.0, 1.0)
     cylinders = []
     for i, c in enumerate(array(doc, "cylinders", "")):
         p = "cylinders[%d]" % i
-        cylinders.append({"start": vec(c, "start", p), "end": vec(c, "end", p), "radius": num(c, "radius", p, 0.0),
-                          "albedo": colour(c, "albedo", p), "id": integer(c, "id", p, 0, MAX_ID)})
+        cy = {"start": vec(c, "start", p), "end": vec(c, "end", p), "radius": num(c, "radius", p, 0.0),
+              "albedo": colour(c, "albedo", p), "id": integer(c, "id", p, 0, MAX_ID)}
+        if "wood_png" in s and cy["radius"] > 0 and cy["start"] != cy["end"]:
+            cy["x_axis"] = vec(c, "x_axis", p, 3, -1.0, 1.0)
+            axis = [e - b for b, e in zip(cy["start"], cy["end"])]
+            length = math.sqrt(sum(v * v for v in axis))
+            if abs(math.sqrt(sum(v * v for v in cy["x_axis"])) - 1) > 1e-6 or \
+                    abs(sum(u * v for u, v in zip(cy["x_axis"], axis))) > 1e-6 * length:
+                raise SceneError("'%s.x_axis' is not a unit vector normal to the cylinder's axis" % p)
+            cy["atlas_origin"] = vec(c, "atlas_origin", p, 3, 0.0, float(max(s["wood_width"], s["wood_height"])))
+            cy["atlas_steps"] = vec(c, "atlas_steps", p, 3, 0.0, float(max(s["wood_width"], s["wood_height"])))
+        cylinders.append(cy)
     s["cylinders"] = cylinders
 
     leaves = []
@@ -295,11 +315,23 @@ def build_and_render(s, folder):
         n.outputs[0].default_value = v
         return n.outputs[0]
 
-    def object_attribute(nodes, name):
+    def coordinates(nodes, links, which):
+        # A texture coordinate (Generated, Object, ...) split into X, Y, Z.
+        tc = nodes.new("ShaderNodeTexCoord")
+        sep = nodes.new("ShaderNodeSeparateXYZ")
+        links.new(tc.outputs[which], sep.inputs[0])
+        return sep
+
+    def math_node(nodes, operation):
+        n = nodes.new("ShaderNodeMath")
+        n.operation = operation
+        return n
+
+    def object_attribute(nodes, name, output="Color"):
         n = nodes.new("ShaderNodeAttribute")
         n.attribute_type = "OBJECT"
         n.attribute_name = name
-        return n.outputs["Color"]
+        return n.outputs[output]
 
     def principled(nodes, links, base, alpha, specular):
         p = nodes.new("ShaderNodeBsdfPrincipled")
@@ -328,11 +360,8 @@ def build_and_render(s, folder):
     world.use_nodes = True
     nodes, links = world.node_tree.nodes, world.node_tree.links
     nodes.clear()
-    tc = nodes.new("ShaderNodeTexCoord")
-    sep = nodes.new("ShaderNodeSeparateXYZ")
-    links.new(tc.outputs["Generated"], sep.inputs[0])
-    zpos = nodes.new("ShaderNodeMath")
-    zpos.operation = "MAXIMUM"
+    sep = coordinates(nodes, links, "Generated")
+    zpos = math_node(nodes, "MAXIMUM")
     links.new(sep.outputs["Z"], zpos.inputs[0])
     zpos.inputs[1].default_value = 0.0
     bg = nodes.new("ShaderNodeBackground")
@@ -484,7 +513,49 @@ def build_and_render(s, folder):
         cm.update()
         mat, nodes, links = new_material("gb_cylinder")
         d = nodes.new("ShaderNodeBsdfDiffuse")
-        links.new(object_attribute(nodes, "gb_albedo"), d.inputs["Color"])
+        albedo = object_attribute(nodes, "gb_albedo")
+        if "wood_png" in s:
+            # The wood texture (wood_atlas.h): the unit cylinder's own coordinates give the
+            # fraction along it (z) and the angle about it (atan2(y, x), x = the exported
+            # x_axis); the object's rectangle turns them into the atlas's uv.
+            xyz = coordinates(nodes, links, "Object")
+            angle = math_node(nodes, "ARCTAN2")
+            links.new(xyz.outputs["Y"], angle.inputs[0])
+            links.new(xyz.outputs["X"], angle.inputs[1])
+            around = math_node(nodes, "MULTIPLY_ADD")  # angle / 2 pi + 1 / 2
+            links.new(angle.outputs[0], around.inputs[0])
+            links.new(value_node(nodes, 1 / (2 * math.pi)), around.inputs[1])
+            links.new(value_node(nodes, 0.5), around.inputs[2])
+            local = nodes.new("ShaderNodeCombineXYZ")
+            links.new(xyz.outputs["Z"], local.inputs["X"])
+            links.new(around.outputs[0], local.inputs["Y"])
+            steps = nodes.new("ShaderNodeVectorMath")
+            steps.operation = "MULTIPLY_ADD"  # origin + (along, around) x steps, in texels
+            links.new(local.outputs[0], steps.inputs[0])
+            links.new(object_attribute(nodes, "gb_atlas_steps", "Vector"), steps.inputs[1])
+            links.new(object_attribute(nodes, "gb_atlas_origin", "Vector"), steps.inputs[2])
+            uv = nodes.new("ShaderNodeVectorMath")
+            uv.operation = "MULTIPLY"
+            links.new(steps.outputs[0], uv.inputs[0])
+            uv.inputs[1].default_value = (1.0 / s["wood_width"], 1.0 / s["wood_height"], 0.0)
+            img = nodes.new("ShaderNodeTexImage")
+            img.image = bpy.data.images.load(s["wood_png"])
+            img.image.colorspace_settings.name = "Non-Color"
+            img.interpolation = "Linear"
+            img.extension = "EXTEND"
+            links.new(uv.outputs[0], img.inputs["Vector"])
+            factor = math_node(nodes, "MULTIPLY_ADD")  # 1 + a (2 t - 1) = 2 a t + 1 - a
+            links.new(img.outputs["Color"], factor.inputs[0])
+            links.new(value_node(nodes, 2 * s["wood_amplitude"]), factor.inputs[1])
+            links.new(value_node(nodes, 1 - s["wood_amplitude"]), factor.inputs[2])
+            mix = nodes.new("ShaderNodeMixRGB")
+            mix.blend_type = "MULTIPLY"
+            mix.use_clamp = True  # as the appearance model clamps each channel to [0, 1]
+            mix.inputs["Fac"].default_value = 1.0
+            links.new(albedo, mix.inputs["Color1"])
+            links.new(factor.outputs[0], mix.inputs["Color2"])
+            albedo = mix.outputs["Color"]
+        links.new(albedo, d.inputs["Color"])
         d.inputs["Roughness"].default_value = 0.0
         finish(nodes, links, d.outputs[0])
         cm.materials.append(mat)
@@ -493,10 +564,19 @@ def build_and_render(s, folder):
             length = (e - a).length
             if cy["radius"] <= 0 or length <= 0:
                 continue
-            rot = (e - a).normalized().to_track_quat("Z", "Y").to_matrix().to_4x4()
+            axis = (e - a).normalized()
+            if "x_axis" in cy:  # the atlas's frame: x_axis at angle 0, axis x x_axis at pi / 2
+                x = Vector(cy["x_axis"]).normalized()
+                y = axis.cross(x)
+                rot = Matrix((x, y, axis)).transposed().to_4x4()
+            else:
+                rot = axis.to_track_quat("Z", "Y").to_matrix().to_4x4()
             ob = new_object("gb_cylinder_%d" % i, cm, cy["id"])
             ob.matrix_world = Matrix.Translation(a) @ rot @ Matrix.Diagonal((cy["radius"], cy["radius"], length, 1.0))
             ob["gb_albedo"] = cy["albedo"]
+            if "x_axis" in cy:
+                ob["gb_atlas_origin"] = cy["atlas_origin"]
+                ob["gb_atlas_steps"] = cy["atlas_steps"]
 
     # --- leaves: one mesh each, flat shaded, textured through their uv
     if s["leaves"]:

@@ -153,5 +153,70 @@ TEST(CyclesRender, TheIndexPassAgreesWithTheExactLabelsAndThreadsDoNotMatter) {
   std::printf("[cycles] 200 x 150, 4 samples: %.2f s (2 threads), %.2f s (1 thread)\n", two.seconds, one.seconds);
 }
 
+// The stems' wood texture (wood_atlas.h) reaches Cycles' image where the fast renderer
+// draws it. On a close view of the peduncle (a 2 mm cell is 10 pixels), each renderer's
+// image with the texture over its image without it (the same seed, so Cycles' paths
+// and noise largely cancel) is the texture as drawn; the two must correlate. A missing,
+// mirrored or shifted texture in the export gives about 0.
+TEST(CyclesRender, TheStemsCarryTheFastRenderersWoodTexture) {
+  if (!have_blender()) GTEST_SKIP() << "Blender not installed (Debian package `blender`; scripts/setup.sh installs it)";
+  Fixture f(160, 120);
+  const Stem* ped = nullptr;
+  for (const Stem& st : f.bunch.stems) ped = st.part == Part::Peduncle ? &st : ped;
+  ASSERT_NE(ped, nullptr);
+  const Vec3 mid = 0.5 * (ped->start + ped->end), axis = (ped->end - ped->start).normalized();
+  Vec3 side = axis.cross(Vec3::UnitZ());
+  side = side.norm() > 0.1 ? side.normalized() : Vec3::UnitX();
+  f.cam.pose = look_at(mid - 0.04 * side, mid);
+  AppearanceParams plain = f.look;
+  plain.wood_texture = 0;
+  f.look.wood_texture = 0.5;
+  CyclesParams cp;
+  cp.sandbox = sandbox_here();
+  cp.samples = 16;
+  cp.leaf_texels = 16;
+  const TempFolder t("grapebench-cycles-wood");
+  const auto c1 = cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 3, t.path / "a").linear;
+  const auto c0 = cycles_render(f.scene, f.cam, f.light, plain, f.camera, 0.006, cp, 3, t.path / "b").linear;
+  const auto r1 = ray_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, 3).linear;
+  const auto r0 = ray_render(f.scene, f.cam, f.light, plain, f.camera, 0.006, 3).linear;
+  const OrganisedCloud exact = capture_exact(f.scene, f.cam);
+  // Peduncle pixels away from its silhouette (their 5 x 5 neighbourhood all peduncle).
+  const int W = 160, H = 120;
+  std::vector<std::size_t> inside;
+  for (int y = 2; y < H - 2; ++y)
+    for (int x = 2; x < W - 2; ++x) {
+      bool all = true;
+      for (int dy = -2; dy <= 2 && all; ++dy)
+        for (int dx = -2; dx <= 2 && all; ++dx) {
+          const auto i = static_cast<std::size_t>((y + dy) * W + x + dx);
+          all = exact.valid[i] && exact.label[i] == static_cast<std::uint8_t>(Part::Peduncle);
+        }
+      if (all) inside.push_back(static_cast<std::size_t>(y * W + x));
+    }
+  ASSERT_GT(inside.size(), 200u) << "the peduncle should fill the view's middle";
+  const auto ratio = [&](const std::vector<float>& with, const std::vector<float>& without) {
+    std::vector<double> q;
+    double mean = 0;
+    for (std::size_t i : inside) {
+      const double a = with[3 * i] + with[3 * i + 1] + with[3 * i + 2], b = without[3 * i] + without[3 * i + 1] + without[3 * i + 2];
+      q.push_back(b > 0 ? a / b : 1);
+      mean += q.back() / static_cast<double>(inside.size());
+    }
+    for (double& v : q) v -= mean;
+    return q;
+  };
+  const auto qc = ratio(c1, c0), qr = ratio(r1, r0);
+  double ab = 0, aa = 0, bb = 0, spread = 0;
+  for (std::size_t k = 0; k < qc.size(); ++k) ab += qc[k] * qr[k], aa += qc[k] * qc[k], bb += qr[k] * qr[k];
+  spread = std::sqrt(bb / static_cast<double>(qr.size()));
+  const double corr = ab / std::sqrt(aa * bb);
+  std::printf("[cycles] wood texture, %zu peduncle pixels: ray's texture sd %.3f, Cycles' against ray's r = %.3f, "
+              "sd ratio %.2f\n", inside.size(), spread, corr, std::sqrt(aa / bb));
+  EXPECT_GT(spread, 0.1);  // the texture at amplitude 0.5 is there to be matched
+  EXPECT_GT(corr, 0.9);
+  EXPECT_NEAR(std::sqrt(aa / bb), 1, 0.2);  // and as strong
+}
+
 }  // namespace
 }  // namespace grapebench
