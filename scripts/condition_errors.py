@@ -6,7 +6,9 @@ the bunches, from a run's results.csv (docs/seed000.md, "Across compactness clas
 
 With --paired KEY (a sweep column taking two values, for example
 bunches.bend_probability), the difference second value minus first, bunch for bunch,
-in points of relative error, per the remaining conditions and estimator:
+in points of relative error, per the remaining conditions and estimator (on an axis that
+changes the bunches themselves, a preset, the pairs are unrelated bunches: the interval
+holds, without a pairing's gain):
 
     /usr/bin/python3 scripts/condition_errors.py results/runs/seed000_bent/results.csv PB,VB,CH,visibility_hull --paired bunches.bend_probability
 """

@@ -64,10 +64,11 @@ def main():
         settings = []
         if a.settings == "all":
             settings += [("preset's own", [])]
-            settings += [("compactness 0", ["compactness=0"])]
-        settings += [("compactness 1", ["compactness=1"])]
+            settings += [("compactness 0", ["compactness=0", "oiv_compactness=0"])]
+        # A variety preset's own class would override the continuous settings.
+        settings += [("compactness 1", ["compactness=1", "oiv_compactness=0"])]
         if a.settings == "all":
-            settings += [("compactness 1, press 0.3", ["compactness=1", "max_press_depth=0.3"])]
+            settings += [("compactness 1, press 0.3", ["compactness=1", "max_press_depth=0.3", "oiv_compactness=0"])]
         settings += [("OIV %s" % k, ["oiv_compactness=%s" % k]) for k in a.classes.split(",")]
         for name, sets in settings:
             out = os.path.join(a.out, preset, name.replace(" ", "_").replace(",", ""))

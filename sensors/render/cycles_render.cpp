@@ -126,7 +126,7 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   if (bunch.berries.empty()) s["berry_material"] = {{"f0", look.skin_f0}, {"alpha", look.skin_roughness}};
   json cylinders = json::array();
   // The wood texture's atlas covers every drawn cylinder: the scene's own at
-  // `wood_texel`, the row copies (0.8 m and more further off) at twice it.
+  // `wood_texel`, the row copies (a vine or a row away, 1.2 m and more by default) at twice it.
   std::vector<Stem> wood;
   std::vector<double> wood_texel;
   std::vector<std::size_t> wood_of;  // cylinder -> its rectangle in the atlas (npos: not drawn)

@@ -18,8 +18,9 @@ WoodAtlas wood_atlas(const std::vector<Stem>& cylinders, const std::vector<doubl
     const double length = (c.end - c.start).norm();
     if (!(length > 0) || !(c.radius > 0) || !(texel[i] > 0) || !std::isfinite(length / texel[i]))
       throw std::invalid_argument("wood_atlas: cylinder " + std::to_string(i) + " has no length, radius or texel");
-    if (length / texel[i] > (1 << 24) || 2 * M_PI * c.radius / texel[i] > (1 << 24))
-      throw std::invalid_argument("wood_atlas: cylinder " + std::to_string(i) + " needs more than 2^24 texels a side; "
+    // cycles_scene.py takes images up to 65536 texels a side.
+    if (length / texel[i] >= 65535 || 2 * M_PI * c.radius / texel[i] >= 65535)
+      throw std::invalid_argument("wood_atlas: cylinder " + std::to_string(i) + " needs more than 65535 texels a side; "
                                   "use a larger texel");
     WoodAtlasPlacement& p = out.placement[i];
     p.along = std::max(1, static_cast<int>(std::ceil(length / texel[i])));
@@ -39,19 +40,21 @@ WoodAtlas wood_atlas(const std::vector<Stem>& cylinders, const std::vector<doubl
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return h[x] > h[y]; });
   out.width = std::max(4096, w.empty() ? 0 : *std::max_element(w.begin(), w.end()));
-  int x = 0, y = 0, shelf = 0;
+  std::int64_t x = 0, y = 0, shelf = 0;
   for (std::size_t i : order) {
     if (x + w[i] > out.width) {
       y += shelf;
       x = 0;
       shelf = 0;
     }
-    out.placement[i].x0 = x;
-    out.placement[i].y0 = y;
+    if (y + h[i] > (1 << 28) / out.width)
+      throw std::invalid_argument("wood_atlas: more than 2^28 texels; use a larger texel");
+    out.placement[i].x0 = static_cast<int>(x);
+    out.placement[i].y0 = static_cast<int>(y);
     x += w[i];
-    shelf = std::max(shelf, h[i]);
+    shelf = std::max<std::int64_t>(shelf, h[i]);
   }
-  out.height = std::max(1, y + shelf);
+  out.height = static_cast<int>(std::max<std::int64_t>(1, y + shelf));
   if (static_cast<double>(out.width) * out.height > static_cast<double>(1 << 28))
     throw std::invalid_argument("wood_atlas: " + std::to_string(out.width) + " x " + std::to_string(out.height) +
                                 " texels; use a larger texel");

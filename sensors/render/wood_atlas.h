@@ -27,10 +27,12 @@ struct WoodAtlas {
 };
 
 // `texel[i]` (m, > 0) is cylinder i's texel size; rectangles are (along + 1) x
-// (around + 1) texels, so the last column and row repeat the first point of the next
-// step (the seam at angle +-pi is drawn twice). Packed in shelves, tallest first, into
-// a width of at least 4096. Throws std::invalid_argument on a degenerate cylinder
-// (zero length or radius) or texel size, and when the atlas would pass 2^28 texels.
+// (around + 1) texels: the last column is the cylinder's end, the last row the seam at
+// angle +pi again (drawn twice, so bilinear sampling never reads a neighbour). Packed
+// in shelves, tallest first, into a width of at least 4096. The caps are not baked:
+// Blender draws them with the side's rim texture drawn inwards. Throws
+// std::invalid_argument on a degenerate cylinder (zero length or radius) or texel
+// size, a side of 65535 texels or more, or more than 2^28 texels in all.
 WoodAtlas wood_atlas(const std::vector<Stem>& cylinders, const std::vector<double>& texel, const AppearanceParams& a);
 
 }  // namespace grapebench

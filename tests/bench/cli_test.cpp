@@ -290,10 +290,17 @@ TEST(Cli, ASandboxedProgramFindsNoTruth) {
   fs::remove_all(other);
   fs::create_directories(other);
   fs::create_directories(shared);
+  const fs::path scene = fs::absolute("grapebench_truth_scene.yaml");
+  struct Cleanup {  // the working folder is left as it was found, whatever fails
+    fs::path a, b, c;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(a, ec), fs::remove_all(b, ec), fs::remove(c, ec);
+    }
+  } cleanup{shared, other, scene};
   std::ofstream(other / "ground_truth.json") << "{\"volume_m3\": 0.0004}\n";
   std::ofstream(shared / "module.py") << "# a module the program may read\n";
   const char* home = std::getenv("HOME");
-  const fs::path scene = fs::absolute("grapebench_truth_scene.yaml");
   const std::string script = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/truth_search.sh";
   // Places to look, as "@path" (a path argument would be shown to it as a named file).
   const std::string targets = "\"@" + out.string() + "\", \"@" + other.string() + "\", \"@" + scene.string() + "\"" +
@@ -329,9 +336,6 @@ TEST(Cli, ASandboxedProgramFindsNoTruth) {
   ASSERT_EQ(open.size(), 2u) << csv;
   for (const std::string& seen : {out.string(), other.string(), scene.string(), std::string("/cmdline")})
     EXPECT_NE(open[0].find(seen), std::string::npos) << seen << " in " << open[0];
-  fs::remove_all(other);
-  fs::remove_all(shared);  // the working folder is left as it was found
-  fs::remove(scene);
 }
 
 // Issue 39: every other program the harness starts (COLMAP's steps, Blender) runs

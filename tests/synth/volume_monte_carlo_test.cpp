@@ -1,6 +1,7 @@
 // Acceptance: the analytic solid volume agrees with an independent Monte Carlo
 // estimate (10^7 seeded samples, inside test straight from the primitives) within
-// three standard errors, for every preset loose and compact, and for a hand-built
+// three standard errors, for the four legacy presets loose and compact (two variety
+// presets at their own settings; the other two by hand, below), and for a hand-built
 // bunch with pressed berries and pedicels entering berries.
 #include "synth/generate.h"
 #include "synth/ground_truth.h"

@@ -57,7 +57,8 @@ TEST(WoodAtlas, SampledAsBlenderDoesItGivesTheFastRenderersTextureOnTheSurface) 
     }
     // Bilinear between texels of a quarter of the 2 mm cell (the scene's own cylinders)
     // or a half (row copies, cylinder 1): small against the texture's own spread (measured:
-    // mean 4 % and 15 % of it); a wrong frame, seam or row order would be as large as it.
+    // mean 4 % and 15 % of it); a wrong frame or seam in the baking would be as large as
+    // it. (The PNG's row order and the shader are CyclesRender.TheStemsCarry...'s.)
     SCOPED_TRACE(i);
     std::printf("[wood atlas] cylinder %zu: worst %.4f, mean %.4f, texture mean %.4f\n", i, worst, sum / n, spread / n);
     const bool coarse = i == 1;
@@ -90,6 +91,10 @@ TEST(WoodAtlas, RectanglesDoNotOverlapAndDegenerateCylindersAreRefused) {
   EXPECT_THROW(wood_atlas({{Vec3::Zero(), Vec3::UnitZ(), 0.01, Part::Cane}}, {0}, a), std::invalid_argument);
   EXPECT_THROW(wood_atlas({{Vec3::Zero(), 1000 * Vec3::UnitZ(), 0.5, Part::Cane}}, {1e-5}, a), std::invalid_argument);
   EXPECT_THROW(wood_atlas({{Vec3::Zero(), 1e9 * Vec3::UnitZ(), 0.5, Part::Cane}}, {1e-5}, a), std::invalid_argument);
+  // Many cylinders each within the side limit, together past 2^28 texels.
+  EXPECT_THROW(wood_atlas(std::vector<Stem>(40, Stem{Vec3::Zero(), Vec3::UnitZ(), 0.1, Part::Cane}),
+                          std::vector<double>(40, 1e-4), a),
+               std::invalid_argument);
 }
 
 }  // namespace
