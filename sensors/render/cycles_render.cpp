@@ -80,7 +80,7 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   const int W = cam.K.width, H = cam.K.height;
   json s;
   s["format"] = "grapebench-cycles-1";
-  s["image"] = {{"width", W}, {"height", H}, {"samples", cycles.samples},
+  s["image"] = {{"width", W}, {"height", H}, {"samples", cycles.samples}, {"bounces", cycles.bounces},
                 {"seed", static_cast<std::int64_t>(seed % 2147483647ULL)}, {"threads", cycles.threads}};
   json pose = json::array();
   const Eigen::Matrix4d P = cam.pose.matrix();
@@ -323,6 +323,11 @@ const ParamTable<CyclesParams>& cycles_param_table() {
       ParamTable<P>()
           .integer("samples", "count", &P::samples, 1, 4096,
                    "path samples per pixel (Debian's Blender has no denoiser: noise falls as 1/sqrt(samples))")
+          .integer("bounces", "count", &P::bounces, 1, 128,
+                   "cap on each kind of light-path bounce (diffuse, glossy, transmission, transparent); a "
+                   "translucent pass counts as diffuse, so light crossing a berry takes 2. 12 keeps light "
+                   "through leaf layers and between berries (Cycles' own default stops diffuse at 4); 1 is "
+                   "about the fast renderer's one bounce, an ablation")
           .integer("threads", "count", &P::threads, 1, 256, "Cycles' render threads")
           .real("time_limit", "s", &P::time_limit, 1, 86400, "per image, Blender's start included; past it, stopped")
           .integer("leaf_texels", "count", &P::leaf_texels, 16, 2048,

@@ -26,11 +26,10 @@ FORMAT = "grapebench-cycles-1"
 SPHERE_SEGMENTS = 48   # around the berry
 SPHERE_RINGS = 24      # pole to pole
 CYLINDER_SIDES = 32
-# Light path bounces: the spec leaves them open; every kind gets the same generous cap
+# Light path bounces (the scene's `bounces`, default 12): every kind gets the same cap
 # (Cycles' own defaults stop diffuse paths at 4, which cuts light through leaf layers
 # and berries, where each translucent pass counts as a diffuse bounce). Russian roulette
 # keeps long paths cheap.
-MAX_BOUNCES = 12
 
 
 class SceneError(Exception):
@@ -124,6 +123,7 @@ def parse(doc, folder):
     s["W"] = integer(im, "width", "image", 1, 65536)
     s["H"] = integer(im, "height", "image", 1, 65536)
     s["samples"] = integer(im, "samples", "image", 1, 1 << 24)
+    s["bounces"] = integer(im, "bounces", "image", 1, 1024)
     s["seed"] = integer(im, "seed", "image") % 2147483648  # Cycles' seed is a non-negative int
     s["threads"] = integer(im, "threads", "image", 1, 1024)
 
@@ -275,11 +275,11 @@ def build_and_render(s, folder):
     c.sample_clamp_direct = 0.0
     c.sample_clamp_indirect = 0.0
     c.blur_glossy = 0.0
-    c.max_bounces = MAX_BOUNCES
-    c.diffuse_bounces = MAX_BOUNCES
-    c.glossy_bounces = MAX_BOUNCES
-    c.transmission_bounces = MAX_BOUNCES
-    c.transparent_max_bounces = MAX_BOUNCES
+    c.max_bounces = s["bounces"]
+    c.diffuse_bounces = s["bounces"]
+    c.glossy_bounces = s["bounces"]
+    c.transmission_bounces = s["bounces"]
+    c.transparent_max_bounces = s["bounces"]
     c.volume_bounces = 0
     c.caustics_reflective = True
     c.caustics_refractive = True

@@ -219,5 +219,34 @@ TEST(CyclesRender, TheStemsCarryTheFastRenderersWoodTexture) {
   EXPECT_NEAR(std::sqrt(aa / bb), 1, 0.2);  // and as strong
 }
 
+// `cycles.bounces` reaches Cycles: light between berries and through them needs paths
+// longer than one bounce, so the bunch is brighter at the default cap of 12 than at 1
+// (the ablation of docs/seed001.md); the sky and the sunlit ground, one bounce or
+// none away, read the same.
+TEST(CyclesRender, TheBounceCapShortensTheLightPaths) {
+  if (!have_blender()) GTEST_SKIP() << "Blender not installed (Debian package `blender`; scripts/setup.sh installs it)";
+  const Fixture f(80, 60);
+  CyclesParams cp;
+  cp.sandbox = sandbox_here();
+  cp.samples = 16;
+  cp.leaf_texels = 16;
+  const TempFolder t("grapebench-cycles-bounces");
+  const CyclesRenderResult many = cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 3, t.path / "a");
+  cp.bounces = 1;
+  const CyclesRenderResult one = cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 3, t.path / "b");
+  const auto mean = [](const CyclesRenderResult& r, Part part) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < r.part.size(); ++i)
+      if (r.part[i] == static_cast<std::uint8_t>(part)) sum += r.linear[3 * i] + r.linear[3 * i + 1] + r.linear[3 * i + 2], ++n;
+    return n ? sum / static_cast<double>(n) : 0.0;
+  };
+  const double b12 = mean(many, Part::Berry), b1 = mean(one, Part::Berry);
+  const double s12 = mean(many, Part::None), s1 = mean(one, Part::None);
+  std::printf("[cycles] berries at 12 bounces / 1: %.3f; the rest: %.3f\n", b12 / b1, s12 / s1);
+  EXPECT_GT(b12, 1.05 * b1);
+  EXPECT_NEAR(s12 / s1, 1, 0.05);
+}
+
 }  // namespace
 }  // namespace grapebench
