@@ -81,6 +81,7 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   json s;
   s["format"] = "grapebench-cycles-1";
   s["image"] = {{"width", W}, {"height", H}, {"samples", cycles.samples}, {"bounces", cycles.bounces},
+                {"diffuse", cycles.diffuse == CyclesParams::Diffuse::Lambert ? "lambert" : "principled"},
                 {"seed", static_cast<std::int64_t>(seed % 2147483647ULL)}, {"threads", cycles.threads}};
   json pose = json::array();
   const Eigen::Matrix4d P = cam.pose.matrix();
@@ -328,6 +329,11 @@ const ParamTable<CyclesParams>& cycles_param_table() {
                    "translucent pass counts as diffuse, so light crossing a berry takes 2. 12 keeps light "
                    "through leaf layers and between berries (Cycles' own default stops diffuse at 4); 1 is "
                    "about the fast renderer's one bounce, an ablation")
+          .choice("diffuse", &P::diffuse, {{"principled", P::Diffuse::Principled}, {"lambert", P::Diffuse::Lambert}},
+                  "the diffuse lobe of berries and leaves. principled: the Principled BSDF's (Burley 2012), "
+                  "which rough surfaces make brighter towards grazing (retro-reflection); lambert: "
+                  "Principled's specular over a Lambert lobe, the fast renderer's model, an ablation "
+                  "(docs/seed001.md)")
           .integer("threads", "count", &P::threads, 1, 256, "Cycles' render threads")
           .real("time_limit", "s", &P::time_limit, 1, 86400, "per image, Blender's start included; past it, stopped")
           .integer("leaf_texels", "count", &P::leaf_texels, 16, 2048,

@@ -25,6 +25,8 @@ namespace grapebench {
 struct CyclesParams {
   int samples = 64;           // path samples per pixel, [1, 4096]
   int bounces = 12;           // cap on every kind of light-path bounce, [1, 128]
+  enum class Diffuse { Principled, Lambert };
+  Diffuse diffuse = Diffuse::Principled;  // berries' and leaves' diffuse lobe; Lambert: the fast renderer's, an ablation
   int threads = 2;            // Cycles' render threads, [1, 256]
   double time_limit = 600;    // s per image, Blender's start included, [1, 86400]
   int leaf_texels = 256;      // texels per leaf side in the leaf atlas, [16, 2048]

@@ -124,6 +124,9 @@ def parse(doc, folder):
     s["H"] = integer(im, "height", "image", 1, 65536)
     s["samples"] = integer(im, "samples", "image", 1, 1 << 24)
     s["bounces"] = integer(im, "bounces", "image", 1, 1024)
+    s["diffuse"] = string(im, "diffuse", "image")
+    if s["diffuse"] not in ("principled", "lambert"):
+        raise SceneError("'image.diffuse' is %r, want principled or lambert" % s["diffuse"])
     s["seed"] = integer(im, "seed", "image") % 2147483648  # Cycles' seed is a non-negative int
     s["threads"] = integer(im, "threads", "image", 1, 1024)
 
@@ -344,10 +347,22 @@ def build_and_render(s, folder):
                 p.inputs[k].default_value = v
         if "Emission" in p.inputs:
             p.inputs["Emission"].default_value = (0.0, 0.0, 0.0, 1.0)
-        links.new(base, p.inputs["Base Color"])
         links.new(value_node(nodes, math.sqrt(alpha)), p.inputs["Roughness"])
         links.new(specular, p.inputs["Specular"])
-        return p
+        if s["diffuse"] == "principled":
+            links.new(base, p.inputs["Base Color"])
+            return p
+        # Lambert: Principled's specular alone (a black base colour weighs its diffuse
+        # closure to nothing; at Metallic 0 the specular does not depend on it) plus a
+        # Lambert lobe of the base colour, as the fast renderer shades.
+        p.inputs["Base Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+        d = nodes.new("ShaderNodeBsdfDiffuse")
+        links.new(base, d.inputs["Color"])
+        d.inputs["Roughness"].default_value = 0.0
+        add = nodes.new("ShaderNodeAddShader")
+        links.new(p.outputs[0], add.inputs[0])
+        links.new(d.outputs[0], add.inputs[1])
+        return add
 
     def finish(nodes, links, shader):
         out = nodes.new("ShaderNodeOutputMaterial")

@@ -222,8 +222,11 @@ TEST(CyclesRender, TheStemsCarryTheFastRenderersWoodTexture) {
 // `cycles.bounces` reaches Cycles: light between berries and through them needs paths
 // longer than one bounce, so the bunch is brighter at the default cap of 12 than at 1
 // (the ablation of docs/seed001.md); the sky and the sunlit ground, one bounce or
-// none away, read the same.
-TEST(CyclesRender, TheBounceCapShortensTheLightPaths) {
+// none away, read the same. `cycles.diffuse` reaches it too: the Principled lobe
+// (Burley 2012) of the berries' rough bloom (GGX alpha 0.31, roughness 0.56) is brighter
+// towards grazing than Lambert's, so the berries darken under `lambert`; the rest,
+// sky and Lambertian ground, does not move.
+TEST(CyclesRender, TheBounceCapAndTheDiffuseLobeReachCycles) {
   if (!have_blender()) GTEST_SKIP() << "Blender not installed (Debian package `blender`; scripts/setup.sh installs it)";
   const Fixture f(80, 60);
   CyclesParams cp;
@@ -234,6 +237,9 @@ TEST(CyclesRender, TheBounceCapShortensTheLightPaths) {
   const CyclesRenderResult many = cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 3, t.path / "a");
   cp.bounces = 1;
   const CyclesRenderResult one = cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 3, t.path / "b");
+  cp.bounces = 12;
+  cp.diffuse = CyclesParams::Diffuse::Lambert;
+  const CyclesRenderResult lambert = cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, cp, 3, t.path / "c");
   const auto mean = [](const CyclesRenderResult& r, Part part) {
     double sum = 0;
     std::size_t n = 0;
@@ -241,11 +247,14 @@ TEST(CyclesRender, TheBounceCapShortensTheLightPaths) {
       if (r.part[i] == static_cast<std::uint8_t>(part)) sum += r.linear[3 * i] + r.linear[3 * i + 1] + r.linear[3 * i + 2], ++n;
     return n ? sum / static_cast<double>(n) : 0.0;
   };
-  const double b12 = mean(many, Part::Berry), b1 = mean(one, Part::Berry);
-  const double s12 = mean(many, Part::None), s1 = mean(one, Part::None);
+  const double b12 = mean(many, Part::Berry), b1 = mean(one, Part::Berry), bl = mean(lambert, Part::Berry);
+  const double s12 = mean(many, Part::None), s1 = mean(one, Part::None), sl = mean(lambert, Part::None);
   std::printf("[cycles] berries at 12 bounces / 1: %.3f; the rest: %.3f\n", b12 / b1, s12 / s1);
+  std::printf("[cycles] berries principled / lambert: %.3f; the rest: %.3f\n", b12 / bl, s12 / sl);
   EXPECT_GT(b12, 1.05 * b1);
   EXPECT_NEAR(s12 / s1, 1, 0.05);
+  EXPECT_GT(b12, 1.005 * bl);
+  EXPECT_NEAR(s12 / sl, 1, 0.05);
 }
 
 }  // namespace
