@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Seed 001's rates per condition from stereo_pair runs' results.csv (docs/seed001.md,
-"On Cycles' images"): cut success and berries found with Wilson 95 % intervals, the
+"On Cycles' images"): cut success and berries found with Wilson 95 % intervals (for the
+berries also with the pair and with the cluster as the unit), the
 pairs reaching the berry stage, the cluster region's median IoU; and, with --pair A B,
 the two conditions compared pair for pair (the same bunch seed and station), berries
 found B minus A in points with a t-interval over the pairs (the pair is the unit: its
@@ -38,20 +39,23 @@ def wilson(k, n, z=1.96):
 
 
 def ratio_bounds(found, visible):
-    """The pooled rate sum(found) / sum(visible) with the pair as the unit, in %: the
-    ratio estimator's linearised variance, n / (n - 1) sum (f_i - R v_i)^2 / (sum v)^2,
-    and Student's t over the n pairs (Cochran, Sampling Techniques, 1977, Sec. 6.4). A
-    pair's berries are not independent draws (a pair whose cut is not matched scores
-    none of them), so Wilson's interval over the berries is too narrow: on every 4 of
-    the 12 clusters of the full summer-black tables at the reduced scenes' 8 stations,
-    Wilson's held the 12 clusters' rate in 28-61 % of the subsets, this one in 83-100 %
-    (berry_interval_coverage.py, docs/seed001.md).
-    None with fewer than 2 pairs or no visible berry."""
+    """The pooled rate sum(found) / sum(visible) with each list entry as a unit (a pair,
+    or a cluster's pairs summed), in %: the ratio estimator's linearised variance,
+    n / (n - 1) sum (f_i - R v_i)^2 / (sum v)^2, and Student's t over the n units
+    (Cochran, Sampling Techniques, 1977, Sec. 6.4; no finite-population factor). A pair's
+    berries are not independent draws (a pair whose cut is not matched scores none of
+    them), so Wilson's interval over the berries is too narrow. How often each holds
+    the full tables' rate is measured by berry_interval_coverage.py (docs/seed001.md).
+    None with fewer than 2 units, no visible berry, or every unit at the same rate (a
+    variance estimate of 0 is no interval)."""
     n, v = len(found), sum(visible)
     if n < 2 or v == 0:
         return None
     r = sum(found) / v
-    se = math.sqrt(n / (n - 1) * sum((f - r * w) ** 2 for f, w in zip(found, visible))) / v
+    ss = sum((f - r * w) ** 2 for f, w in zip(found, visible))
+    if ss <= 1e-12 * v * v:
+        return None
+    se = math.sqrt(n / (n - 1) * ss) / v
     h = T975[min(n - 1, len(T975)) - 1] * se
     return 100 * r, 100 * max(0.0, r - h), 100 * min(1.0, r + h)
 
@@ -103,8 +107,8 @@ def read(files, estimator):
 
 def table(pairs):
     print("| condition | pairs | cut success % | not matched / ROI empty / no line / off the stalk or other | "
-          "berries found / visible %, all pairs | the same, pairs as the unit | pairs reaching the berry stage | berries on them % | cluster IoU, median |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "berries found / visible %, all pairs | the same, pairs as the unit | clusters as the unit | pairs reaching the berry stage | berries on them % | cluster IoU, median |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for cond in sorted(pairs):
         ps = [p for p in pairs[cond].values() if "cut" in p]
         n, ok = len(ps), sum(p["cut"] for p in ps)
@@ -114,10 +118,17 @@ def table(pairs):
         ran = [p for p in ps if p["ran"]]
         rf, rv = sum(p.get("found", 0) for p in ran), sum(p.get("visible", 0) for p in ran)
         ious = [p["iou"] for p in ps if "iou" in p]
-        print("| %s | %d | %s [%d] | %d / %d / %d / %d | %s | %s | %d | %s | %s |" % (
+        per_cluster = collections.defaultdict(lambda: [0.0, 0.0])
+        for (seed, _), p in pairs[cond].items():
+            if "cut" in p:
+                per_cluster[seed][0] += p.get("found", 0)
+                per_cluster[seed][1] += p.get("visible", 0)
+        print("| %s | %d | %s [%d] | %d / %d / %d / %d | %s | %s | %s | %d | %s | %s |" % (
             cond, n, wilson(ok, n), ok, split["not matched"], split["ROI empty"], split["no line"],
             split["off the stalk"] + split["other"], wilson(found, visible),
-            ratio_interval([p.get("found", 0) for p in ps], [p.get("visible", 0) for p in ps]), len(ran), wilson(rf, rv),
+            ratio_interval([p.get("found", 0) for p in ps], [p.get("visible", 0) for p in ps]),
+            ratio_interval([c[0] for c in per_cluster.values()], [c[1] for c in per_cluster.values()]),
+            len(ran), wilson(rf, rv),
             "%.2f" % statistics.median(ious) if ious else "-"))
 
 

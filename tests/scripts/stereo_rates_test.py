@@ -28,9 +28,12 @@ class Intervals(unittest.TestCase):
         _, rlo, rhi = stereo_rates.ratio_bounds(found, visible)
         self.assertGreater(rhi - rlo, 2.5 * (whi - wlo))
 
-    def test_too_few_pairs_or_no_berry_give_no_interval(self):
+    def test_too_few_pairs_no_berry_or_no_spread_give_no_interval(self):
         self.assertIsNone(stereo_rates.ratio_bounds([3], [20]))
         self.assertIsNone(stereo_rates.ratio_bounds([0, 0], [0, 0]))
+        # Every pair at the same rate: a variance estimate of 0, not an interval of width 0.
+        self.assertIsNone(stereo_rates.ratio_bounds([0, 0, 0], [20, 25, 30]))
+        self.assertIsNone(stereo_rates.ratio_bounds([2, 4], [10, 20]))
         self.assertIsNone(stereo_rates.wilson_bounds(0, 0))
         self.assertEqual(stereo_rates.ratio_interval([0, 0], [0, 0]), "-")
 
