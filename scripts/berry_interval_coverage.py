@@ -18,6 +18,7 @@ Options: --estimator NAME (default luo_eq6); --clusters N (default 4); --frames 
 (the stations' frame indices in the full run, default 0,5,...,35: 350 to 1050 mm in
 seed001_black.yaml's 20 mm steps).
 """
+import argparse
 import collections
 import itertools
 import math
@@ -27,26 +28,16 @@ import stereo_rates
 
 
 def main():
-    args = sys.argv[1:]
-    estimator, clusters, frames, files = "luo_eq6", 4, [str(5 * i) for i in range(8)], []
-    i = 0
-    while i < len(args):
-        if args[i] == "--estimator" and i + 1 < len(args):
-            estimator = args[i + 1]
-            i += 2
-        elif args[i] == "--clusters" and i + 1 < len(args) and args[i + 1].isdigit() and int(args[i + 1]) >= 2:
-            clusters = int(args[i + 1])
-            i += 2
-        elif args[i] == "--frames" and i + 1 < len(args) and all(f.isdigit() for f in args[i + 1].split(",")):
-            frames = args[i + 1].split(",")
-            i += 2
-        elif args[i].startswith("-"):
-            sys.exit(__doc__)
-        else:
-            files.append(args[i])
-            i += 1
-    if not files:
-        sys.exit(__doc__)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("files", nargs="+", help="stereo_pair runs' results.csv")
+    ap.add_argument("--estimator", default="luo_eq6")
+    ap.add_argument("--clusters", type=int, default=4)
+    ap.add_argument("--frames", default=",".join(str(5 * i) for i in range(8)))
+    a = ap.parse_args()
+    frames = a.frames.split(",")
+    if a.clusters < 2 or not all(f.isdigit() for f in frames):
+        ap.error("--clusters takes an integer >= 2 and --frames comma-separated frame indices")
+    files, estimator, clusters = a.files, a.estimator, a.clusters
     pairs = stereo_rates.read(files, estimator)
     kinds = ("Wilson", "pairs as the unit", "clusters as the unit")
     print("| %s: condition | clusters | rate at the stations, all clusters %% | subsets of %d | %s |" % (

@@ -110,7 +110,8 @@ def table(pairs):
           "berries found / visible %, all pairs | the same, pairs as the unit | clusters as the unit | pairs reaching the berry stage | berries on them % | cluster IoU, median |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for cond in sorted(pairs):
-        ps = [p for p in pairs[cond].values() if "cut" in p]
+        cut = {k: p for k, p in pairs[cond].items() if "cut" in p}
+        ps = list(cut.values())
         n, ok = len(ps), sum(p["cut"] for p in ps)
         split = collections.Counter(failure(p["message"]) for p in ps if not p["cut"])
         found = sum(p.get("found", 0) for p in ps)
@@ -119,10 +120,9 @@ def table(pairs):
         rf, rv = sum(p.get("found", 0) for p in ran), sum(p.get("visible", 0) for p in ran)
         ious = [p["iou"] for p in ps if "iou" in p]
         per_cluster = collections.defaultdict(lambda: [0.0, 0.0])
-        for (seed, _), p in pairs[cond].items():
-            if "cut" in p:
-                per_cluster[seed][0] += p.get("found", 0)
-                per_cluster[seed][1] += p.get("visible", 0)
+        for (seed, _), p in cut.items():
+            per_cluster[seed][0] += p.get("found", 0)
+            per_cluster[seed][1] += p.get("visible", 0)
         print("| %s | %d | %s [%d] | %d / %d / %d / %d | %s | %s | %s | %d | %s | %s |" % (
             cond, n, wilson(ok, n), ok, split["not matched"], split["ROI empty"], split["no line"],
             split["off the stalk"] + split["other"], wilson(found, visible),
