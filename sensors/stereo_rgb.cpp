@@ -178,6 +178,7 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
   if (p_.renderer != StereoRgbParams::Renderer::OpenGl) {
     const Illumination light = stereo_rgb_illumination(p_, pose);
     const double f = p_.focal_length_mm * 1e-3;
+    if (p_.noise_seed != 0) seed = derive_seed(seed, 0x5eed0000ull + static_cast<std::uint64_t>(p_.noise_seed));
     std::vector<float> l, r;
     if (p_.renderer == StereoRgbParams::Renderer::Cycles) {
       const TempFolder work("grapebench-cycles");
@@ -470,6 +471,10 @@ const ParamTable<StereoRgbParams>& stereo_rgb_param_table() {
                   "opengl: OSMesa, Phong (every figure so far); ray: the appearance model, sun and sky, the camera "
                   "chain; cycles: the same scene path traced by Blender (the reference)")
           .real("sun_size_deg", "deg", &P::sun_size_deg, 0, 20, "ray: the sun's angular diameter (0.53: the solar disc)")
+          .when("renderer: ray or cycles", ray)
+          .integer("noise_seed", "-", &P::noise_seed, 0, 1000000,
+                   "ray and cycles: 0 keeps the scene's draws; another value redraws the renderer's sampling and the "
+                   "camera's noise, scene and truth unchanged (a figure's spread over the images' own noise)")
           .when("renderer: ray or cycles", ray)
           .section("appearance", &P::appearance, appearance_param_table(),
                    "ray: what berries, leaves, stems, ground and rows reflect (sensors/render/appearance.h)")

@@ -54,6 +54,10 @@ struct StereoRgbParams {
   enum class Renderer { OpenGl, Ray, Cycles };
   Renderer renderer = Renderer::OpenGl;
   double sun_size_deg = 0.53;  // ray: the sun's angular diameter (soft shadows), [0, 20]
+  // ray and cycles: 0 keeps the scene's draws; another value redraws the renderer's
+  // sampling and the camera's noise with the scene, its truth and the rig unchanged, so
+  // a figure's spread over the images' own noise can be measured, [0, 1000000].
+  int noise_seed = 0;
   AppearanceParams appearance;  // ray: section `appearance:`
   PhotoCameraParams camera;     // ray: section `camera:`
   CyclesParams cycles;          // cycles: section `cycles:`

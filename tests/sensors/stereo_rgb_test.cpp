@@ -241,6 +241,29 @@ TEST(StereoRgb, TheRayRenderedPairIsTheSameAtAnyThreadCount) {
     EXPECT_EQ(one.rgb[i][0], one.left_image[3 * i]);
   }
   EXPECT_GT(berries, 100u);
+
+  // Another noise_seed redraws the images' noise and nothing else: the same geometry
+  // and labels, other pixels, the same mean (the scene the images show is unchanged).
+  StereoRgbParams q = p;
+  q.noise_seed = 1;
+  const OrganisedCloud other = StereoRgb(q).capture(scene, pose, 3);
+  ASSERT_EQ(other.size(), one.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    ASSERT_EQ(other.label[i], one.label[i]) << "pixel " << i;
+    ASSERT_EQ(other.valid[i], one.valid[i]) << "pixel " << i;
+  }
+  EXPECT_NE(other.left_image, one.left_image);
+  EXPECT_NE(other.right_image, one.right_image);
+  double mean_diff = 0, mean_abs = 0;
+  for (std::size_t i = 0; i < one.left_image.size(); ++i) {
+    const double d = double(other.left_image[i]) - double(one.left_image[i]);
+    mean_diff += d;
+    mean_abs += std::abs(d);
+  }
+  mean_diff /= double(one.left_image.size());
+  mean_abs /= double(one.left_image.size());
+  EXPECT_LT(std::abs(mean_diff), 0.1 * mean_abs) << mean_diff << " DN against " << mean_abs;
+  EXPECT_GT(mean_abs, 0.5);
 }
 
 }  // namespace
