@@ -100,11 +100,15 @@ int main(int argc, char** argv) {
   app.add_option("--trellis", trellis, "the wires and posts in the views (0: the set before them)");
   std::vector<int> only;
   app.add_option("--only", only, "these views (0-26) instead")->check(CLI::Range(0, 26));
+  std::vector<int> sky_filters = {1};
+  app.add_option("--sky-filter", sky_filters,
+                 "ray's camera: sky_filter, one or more (each against the same Cycles image; the panels show the first)")
+      ->check(CLI::Range(1, 4));
   CLI11_PARSE(app, argc, argv);
   try {
     std::filesystem::create_directories(out);
     std::ofstream csv(std::filesystem::path(out) / "agreement.csv");
-    csv << "view,variety,light,distance_m,iou_berry,iou_stem,iou_foliage,de_berry,de_stem,de_foliage,de_background,"
+    csv << "view,sky_filter,variety,light,distance_m,iou_berry,iou_stem,iou_foliage,de_berry,de_stem,de_foliage,de_background,"
            "ssim,grad_ray,grad_cycles,ray_s,cycles_s\n";
     const std::vector<View> set = validation_set();
     std::vector<std::size_t> chosen;
@@ -131,62 +135,70 @@ int main(int argc, char** argv) {
       const Illumination light = stereo_rgb_illumination(p, cam.pose);
       const double f = p.focal_length_mm * 1e-3;
       const OrganisedCloud exact = capture_exact(scene, cam);
-      const auto t0 = std::chrono::steady_clock::now();
-      const RayRenderResult ray = ray_render(scene, cam, light, p.appearance, p.camera, f, 77);
-      const double ray_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       CyclesParams cp;
       cp.samples = samples;
       cp.threads = threads;
       const std::string name = "view" + std::to_string(k);
       const CyclesRenderResult cyc =
           cycles_render(scene, cam, light, p.appearance, p.camera, f, cp, 77, std::filesystem::path(out) / "work" / name);
-      const DevelopResult dr = develop_image(ray.linear, cam.K, p.camera, 5);
-      const DevelopResult dc = develop_image(cyc.linear, cam.K, p.camera, 5, dr.gain);
       const int W = cam.K.width, H = cam.K.height;
       const std::size_t n = static_cast<std::size_t>(W) * H;
-      // Label agreement per class.
-      double iou[3];
-      for (int cls = 0; cls < 3; ++cls) {
-        std::size_t both = 0, either = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-          const bool a = exact.valid[i] && class_of(exact.label[i]) == cls, b = class_of(cyc.part[i]) == cls;
-          both += a && b;
-          either += a || b;
+      std::vector<std::uint8_t> shown, shown_cycles;  // the first sky_filter's images, for the panels
+      for (const int sky_filter : sky_filters) {
+        p.camera.sky_filter = sky_filter;
+        const auto t0 = std::chrono::steady_clock::now();
+        const RayRenderResult ray = ray_render(scene, cam, light, p.appearance, p.camera, f, 77);
+        const double ray_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const DevelopResult dr = develop_image(ray.linear, cam.K, p.camera, 5);
+        if (shown.empty()) shown = dr.rgb;
+        const DevelopResult dc = develop_image(cyc.linear, cam.K, p.camera, 5, dr.gain);
+        if (shown_cycles.empty()) shown_cycles = dc.rgb;
+        // Label agreement per class.
+        double iou[3];
+        for (int cls = 0; cls < 3; ++cls) {
+          std::size_t both = 0, either = 0;
+          for (std::size_t i = 0; i < n; ++i) {
+            const bool a = exact.valid[i] && class_of(exact.label[i]) == cls, b = class_of(cyc.part[i]) == cls;
+            both += a && b;
+            either += a || b;
+          }
+          iou[cls] = either ? static_cast<double>(both) / either : std::nan("");
         }
-        iou[cls] = either ? static_cast<double>(both) / either : std::nan("");
-      }
-      // Class mean colours (8-bit sRGB decoded to linear, averaged, to L*a*b*).
-      double de[4];
-      for (int cls = 0; cls < 4; ++cls) {
-        Eigen::Vector3d sr = Eigen::Vector3d::Zero(), sc = Eigen::Vector3d::Zero();
-        std::size_t m = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-          if ((exact.valid[i] ? class_of(exact.label[i]) : 3) != cls) continue;
-          for (int ch = 0; ch < 3; ++ch) sr[ch] += srgb8_to_linear(dr.rgb[3 * i + ch]), sc[ch] += srgb8_to_linear(dc.rgb[3 * i + ch]);
-          ++m;
+        // Class mean colours (8-bit sRGB decoded to linear, averaged, to L*a*b*).
+        double de[4];
+        for (int cls = 0; cls < 4; ++cls) {
+          Eigen::Vector3d sr = Eigen::Vector3d::Zero(), sc = Eigen::Vector3d::Zero();
+          std::size_t m = 0;
+          for (std::size_t i = 0; i < n; ++i) {
+            if ((exact.valid[i] ? class_of(exact.label[i]) : 3) != cls) continue;
+            for (int ch = 0; ch < 3; ++ch) sr[ch] += srgb8_to_linear(dr.rgb[3 * i + ch]), sc[ch] += srgb8_to_linear(dc.rgb[3 * i + ch]);
+            ++m;
+          }
+          de[cls] = m >= 20 ? ciede2000(linear_rgb_to_lab(sr / m), linear_rgb_to_lab(sc / m)) : std::nan("");
         }
-        de[cls] = m >= 20 ? ciede2000(linear_rgb_to_lab(sr / m), linear_rgb_to_lab(sc / m)) : std::nan("");
+        const double ssim = luminance_ssim(dr.rgb, dc.rgb, W, H);
+        std::vector<std::uint8_t> label(n);
+        for (std::size_t i = 0; i < n; ++i) label[i] = exact.valid[i] ? exact.label[i] : 255;
+        const double gr = boundary_gradient_median(dr.rgb, label, W, H), gc = boundary_gradient_median(dc.rgb, label, W, H);
+        char line[512];
+        std::snprintf(line, sizeof line, "%zu,%d,%s,%s,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.4f,%.1f,%.1f,%.2f,%.2f\n", k,
+                      sky_filter, v.variety.c_str(), v.light_name.c_str(), v.distance, iou[0], iou[1], iou[2], de[0], de[1], de[2], de[3],
+                      ssim, gr, gc, ray_s, cyc.seconds);
+        csv << line;
+        std::fputs(line, stdout);
+        std::fflush(stdout);
+        const std::string prefix = sky_filters.size() > 1 ? "sky_filter " + std::to_string(sky_filter) + ": " : "";
+        const auto keep = [&](const std::string& key, double x) {
+          if (std::isfinite(x)) all[prefix + key].push_back(x);
+        };
+        for (int cls = 0; cls < 3; ++cls) keep(std::string("iou_") + kClass[cls], iou[cls]);
+        for (int cls = 0; cls < 4; ++cls) keep(std::string("de_") + kClass[cls], de[cls]);
+        keep("ssim", ssim);
+        keep("grad_ratio", gr / gc);
+        keep("ray_s", ray_s);
+        keep("cycles_s", cyc.seconds);
       }
-      const double ssim = luminance_ssim(dr.rgb, dc.rgb, W, H);
-      std::vector<std::uint8_t> label(n);
-      for (std::size_t i = 0; i < n; ++i) label[i] = exact.valid[i] ? exact.label[i] : 255;
-      const double gr = boundary_gradient_median(dr.rgb, label, W, H), gc = boundary_gradient_median(dc.rgb, label, W, H);
-      char line[512];
-      std::snprintf(line, sizeof line, "%zu,%s,%s,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.4f,%.1f,%.1f,%.2f,%.2f\n", k,
-                    v.variety.c_str(), v.light_name.c_str(), v.distance, iou[0], iou[1], iou[2], de[0], de[1], de[2], de[3],
-                    ssim, gr, gc, ray_s, cyc.seconds);
-      csv << line;
-      std::fputs(line, stdout);
-      std::fflush(stdout);
-      const auto keep = [&](const std::string& key, double x) {
-        if (std::isfinite(x)) all[key].push_back(x);
-      };
-      for (int cls = 0; cls < 3; ++cls) keep(std::string("iou_") + kClass[cls], iou[cls]);
-      for (int cls = 0; cls < 4; ++cls) keep(std::string("de_") + kClass[cls], de[cls]);
-      keep("ssim", ssim);
-      keep("grad_ratio", gr / gc);
-      keep("ray_s", ray_s);
-      keep("cycles_s", cyc.seconds);
+      p.camera.sky_filter = sky_filters.front();
       // The view side by side: opengl (the images every figure so far was measured
       // on, same light) | ray | cycles.
       StereoRgbParams gl = p;
@@ -198,8 +210,8 @@ int main(int argc, char** argv) {
           for (int ch = 0; ch < 3; ++ch) {
             const std::size_t i = 3 * (static_cast<std::size_t>(y) * W + x) + ch;
             three[3 * (static_cast<std::size_t>(y) * 3 * W + x) + ch] = dg[i];
-            three[3 * (static_cast<std::size_t>(y) * 3 * W + W + x) + ch] = dr.rgb[i];
-            three[3 * (static_cast<std::size_t>(y) * 3 * W + 2 * W + x) + ch] = dc.rgb[i];
+            three[3 * (static_cast<std::size_t>(y) * 3 * W + W + x) + ch] = shown[i];
+            three[3 * (static_cast<std::size_t>(y) * 3 * W + 2 * W + x) + ch] = shown_cycles[i];
           }
       std::ofstream(std::filesystem::path(out) / (name + ".png"), std::ios::binary) << rgb_image_png(3 * W, H, three);
       // And as JPEG (quality 88) for the docs.

@@ -95,10 +95,11 @@ BENCHMARK(BM_StereoRenderRayFoliage)->Unit(benchmark::kMillisecond);
 // OpenGL pair with its labels; the goal is a ratio at or under 1. The render scene
 // (row copies merged) is built once a pair, outside the loop as the RayScene is:
 // BM_RayRenderScene* times it, and an image's share is half of it.
-void ray_image(benchmark::State& state, const RayScene& scene) {
+void ray_image(benchmark::State& state, const RayScene& scene, int sky_filter = 1) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   StereoRgbParams p = setup().params;
   p.renderer = StereoRgbParams::Renderer::Ray;
+  p.camera.sky_filter = sky_filter;
   const Camera left{StereoRgb(p).intrinsics(), setup().pose};
   const Illumination light = stereo_rgb_illumination(p, setup().pose);
   const RayRenderScene rows = ray_render_scene(scene, p.appearance);
@@ -112,6 +113,12 @@ void BM_RayImage(benchmark::State& state) { ray_image(state, *setup().scene); }
 BENCHMARK(BM_RayImage)->Unit(benchmark::kMillisecond);
 void BM_RayImageFoliage(benchmark::State& state) { ray_image(state, foliage_scene()); }
 BENCHMARK(BM_RayImageFoliage)->Unit(benchmark::kMillisecond);
+// The same with the sky light's a-trous passes (camera: sky_filter 2 and 3), their cost
+// against BM_RayImageFoliage (1, the default) and the OpenGL pair.
+void BM_RayImageFoliageSkyFilter(benchmark::State& state) {
+  ray_image(state, foliage_scene(), static_cast<int>(state.range(0)));
+}
+BENCHMARK(BM_RayImageFoliageSkyFilter)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 void BM_RayRenderSceneFoliage(benchmark::State& state) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   const AppearanceParams look = setup().params.appearance;

@@ -117,6 +117,10 @@ const ParamTable<PhotoCameraParams>& photo_camera_param_table() {
           .integer("sky_samples", "count", &P::sky_samples, 1, 64,
                    "`ray` renderer: sky rays a pixel's surface casts per face before the 5 x 5 filter; more "
                    "lowers the filtered light's blotches, which differ between a pair's two images (docs/seed004.md)")
+          .integer("sky_filter", "passes", &P::sky_filter, 1, 4,
+                   "`ray` renderer: passes of the sky light's edge-aware filter; 1 is the 5 x 5 pixels of every "
+                   "figure so far, each further pass doubles the step (a-trous, Dammertz et al. 2010: 2 spans 13 x 13, "
+                   "3 spans 29 x 29), lowering the one sky ray's blotches without more rays")
           .real("f_number", "-", &P::f_number, 0, 32,
                 "aperture of the thin lens, 0: pinhole (assumed f/4 for a 6 mm machine-vision lens)")
           .validate([](const P& p, const ConfigNode& node) {

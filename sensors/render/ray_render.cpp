@@ -455,6 +455,61 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   // Pass 3: the sky rays' incoming radiance (one ray a pixel: noisy) filtered over 5 x 5
   // pixels of the same part and instance class, similar depth and normal (a joint
   // bilateral filter, as real-time ambient occlusion is denoised), then the image.
+  // With sky_filter > 1 the filtered light is filtered again at steps 2, 4, 8 with the
+  // B3-spline taps of the edge-avoiding a-trous transform (Dammertz et al. 2010,
+  // "Edge-avoiding A-Trous wavelet transform for fast global illumination filtering").
+  // The weight of neighbour `o` for pixel `c` (0: not the same surface).
+  const auto weight = [](const Pixel& c, const Pixel& o, std::uint64_t part, float inv_sd) -> float {
+    if (o.key < 2 || (o.key >> 40) != part) return 0;
+    const float dz = (o.depth - c.depth) * inv_sd;
+    if (dz * dz > 9) return 0;  // beyond 3 sd: no weight worth an exp
+    const float nd = std::max(0.0f, c.normal.dot(o.normal)), n2 = nd * nd, n4 = n2 * n2;
+    return n4 * n4 * std::exp(-0.5f * dz * dz);
+  };
+  // Pixel (u, v)'s sky light filtered at `step` from front(j) / back(j) (box taps at
+  // step 1, B3-spline taps after). In single precision throughout (the terms are floats
+  // already; the double conversions were a third of the pass).
+  const auto filter = [&](int u, int v, int step, const auto& front, const auto& back, Eigen::Array3f& f,
+                          Eigen::Array3f& b) {
+    static constexpr float spline[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
+    const std::size_t i = static_cast<std::size_t>(v) * W + u;
+    const Pixel& c = centre[i];
+    f = front(i), b = back(i);
+    if (c.key < 2) return;
+    const std::uint64_t part = c.key >> 40;
+    Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
+    float sw = 0;
+    const float inv_sd = 1.0f / (0.01f * c.depth + 1e-4f);
+    for (int dv = -2; dv <= 2; ++dv)
+      for (int du = -2; du <= 2; ++du) {
+        const int uu = u + step * du, vv = v + step * dv;
+        if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
+        const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
+        float w = weight(c, centre[j], part, inv_sd);
+        if (w == 0) continue;
+        if (step > 1) w *= spline[du + 2] * spline[dv + 2];
+        sf += w * front(j), sb += w * back(j), sw += w;
+      }
+    if (sw > 0) f = sf / sw, b = sb / sw;
+  };
+  const auto raw_front = [&](std::size_t j) -> const Eigen::Array3f& { return centre[j].front; };
+  const auto raw_back = [&](std::size_t j) -> const Eigen::Array3f& { return centre[j].back; };
+  // Passes before the last into arrays of their own (none at the default: no copy).
+  std::vector<Eigen::Array3f> lit_front, lit_back;
+  const auto lit_f = [&](std::size_t j) -> const Eigen::Array3f& { return lit_front[j]; };
+  const auto lit_b = [&](std::size_t j) -> const Eigen::Array3f& { return lit_back[j]; };
+  for (int pass = 1; pass < camera.sky_filter; ++pass) {
+    std::vector<Eigen::Array3f> nf(npix), nb(npix);
+    for_rows(H, [&](int r0, int r1) {
+      for (int v = r0; v < r1; ++v)
+        for (int u = 0; u < W; ++u) {
+          const std::size_t i = static_cast<std::size_t>(v) * W + u;
+          if (pass == 1) filter(u, v, 1, raw_front, raw_back, nf[i], nb[i]);
+          else filter(u, v, 1 << (pass - 1), lit_f, lit_b, nf[i], nb[i]);
+        }
+    });
+    lit_front.swap(nf), lit_back.swap(nb);
+  }
   RayRenderResult out;
   out.linear.assign(3 * npix, 0.0f);
   for_rows(H, [&](int r0, int r1) {
@@ -462,29 +517,9 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       for (int u = 0; u < W; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         const Pixel& c = centre[i];
-        Eigen::Array3f f = c.front, b = c.back;
-        if (c.key >= 2) {
-          // In single precision throughout (the terms are floats already; the double
-          // conversions were a third of the pass).
-          const std::uint64_t part = c.key >> 40;
-          Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
-          float sw = 0;
-          const float inv_sd = 1.0f / (0.01f * c.depth + 1e-4f);
-          for (int dv = -2; dv <= 2; ++dv)
-            for (int du = -2; du <= 2; ++du) {
-              const int uu = u + du, vv = v + dv;
-              if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
-              const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
-              const Pixel& o = centre[j];
-              if (o.key < 2 || (o.key >> 40) != part) continue;
-              const float dz = (o.depth - c.depth) * inv_sd;
-              if (dz * dz > 9) continue;  // beyond 3 sd: no weight worth an exp
-              const float nd = std::max(0.0f, c.normal.dot(o.normal)), n2 = nd * nd, n4 = n2 * n2;
-              const float w = n4 * n4 * std::exp(-0.5f * dz * dz);
-              sf += w * o.front, sb += w * o.back, sw += w;
-            }
-          if (sw > 0) f = sf / sw, b = sb / sw;
-        }
+        Eigen::Array3f f, b;
+        if (camera.sky_filter == 1) filter(u, v, 1, raw_front, raw_back, f, b);
+        else filter(u, v, 1 << (camera.sky_filter - 1), lit_f, lit_b, f, b);
         const C3 px = M_PI * (c.direct.cast<double>() + c.albedo.cast<double>() * f.cast<double>() +
                               c.trans.cast<double>() * b.cast<double>());  // radiance times pi
         for (int ch = 0; ch < 3; ++ch) out.linear[3 * i + ch] = static_cast<float>(px[ch]);
