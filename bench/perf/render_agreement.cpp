@@ -224,7 +224,9 @@ int main(int argc, char** argv) {
       double mean = 0;
       for (double x : xs) mean += x;
       mean /= xs.size();
-      const bool higher_better = key.rfind("iou", 0) == 0 || key == "ssim";
+      const std::size_t colon = key.find(": ");  // after a "sky_filter N: " prefix
+      const std::string base = colon == std::string::npos ? key : key.substr(colon + 2);
+      const bool higher_better = base.rfind("iou", 0) == 0 || base == "ssim";
       const double worst = higher_better ? *std::min_element(xs.begin(), xs.end()) : *std::max_element(xs.begin(), xs.end());
       std::printf("| %s | %.4g | %.4g | %zu |\n", key.c_str(), mean, worst, xs.size());
     }
