@@ -8,6 +8,9 @@ difference from one of them with a 95 % t-interval from the draws' pooled spread
         cycles=results/runs/seed004_green_sgbm_cycles/results.csv \\
         cycles=results/runs/seed004_green_sgbm_cycles_noise_seed/results.csv --against cycles
 
+(the first Cycles file from `run scenes/seed004_green_sgbm_cycles.yaml --shard 1/2`,
+its 64-sample cell)
+
 A group is a run's scene and condition without the draw key; LABEL=FILE puts every row
 of FILE in group LABEL (with the condition, if FILE has more than one), so draws made by
 two scene files (a redraw written as its own scene) count as one group. A draw is a file
@@ -18,6 +21,7 @@ import argparse
 import collections
 import csv
 import math
+import os
 import statistics
 import sys
 
@@ -33,7 +37,8 @@ def read(specs, draw_key, quantity, estimators):
     """{group: {estimator: {draw: value}}} in the order met."""
     groups = collections.OrderedDict()
     for spec in specs:
-        label, _, path = spec.rpartition("=")
+        # LABEL=FILE, or a FILE (whose name may hold a "=")
+        label, _, path = ("", "", spec) if os.path.exists(spec) or "=" not in spec else spec.partition("=")
         try:
             with open(path, newline="") as fh:
                 rows = [r for r in csv.DictReader(fh) if r.get("quantity") == quantity]

@@ -55,8 +55,9 @@ class Draws(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             twice = write(d, "twice.csv", [row("ray", 1, 0, 0.7), row("ray", 1, 0, 0.8)])
             empty = write(d, "empty.csv", [])
+            ok = write(d, "a=b.csv", [row("ray", 1, 0, 0.7)])  # a "=" in a file's name
             for args, words in (([os.path.join(d, "missing.csv")], "missing.csv"), ([twice], "two rows"),
-                                ([empty], "no rows"), ([twice.replace("twice", "empty"), "--against", "x"], "empty.csv")):
+                                ([empty], "no rows"), ([ok, "--against", "x"], "is not a group")):
                 p = subprocess.run(["/usr/bin/python3", SCRIPT] + args, capture_output=True, text=True)
                 self.assertEqual(p.returncode, 2, args)
                 self.assertIn(words, p.stderr)
