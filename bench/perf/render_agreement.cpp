@@ -143,6 +143,19 @@ int main(int argc, char** argv) {
           cycles_render(scene, cam, light, p.appearance, p.camera, f, cp, 77, std::filesystem::path(out) / "work" / name);
       const int W = cam.K.width, H = cam.K.height;
       const std::size_t n = static_cast<std::size_t>(W) * H;
+      // Label agreement per class (Cycles' index pass: the same for every sky_filter).
+      double iou[3];
+      for (int cls = 0; cls < 3; ++cls) {
+        std::size_t both = 0, either = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+          const bool a = exact.valid[i] && class_of(exact.label[i]) == cls, b = class_of(cyc.part[i]) == cls;
+          both += a && b;
+          either += a || b;
+        }
+        iou[cls] = either ? static_cast<double>(both) / either : std::nan("");
+      }
+      std::vector<std::uint8_t> label(n);
+      for (std::size_t i = 0; i < n; ++i) label[i] = exact.valid[i] ? exact.label[i] : 255;
       std::vector<std::uint8_t> shown, shown_cycles;  // the first sky_filter's images, for the panels
       for (const int sky_filter : sky_filters) {
         p.camera.sky_filter = sky_filter;
@@ -153,17 +166,6 @@ int main(int argc, char** argv) {
         if (shown.empty()) shown = dr.rgb;
         const DevelopResult dc = develop_image(cyc.linear, cam.K, p.camera, 5, dr.gain);
         if (shown_cycles.empty()) shown_cycles = dc.rgb;
-        // Label agreement per class.
-        double iou[3];
-        for (int cls = 0; cls < 3; ++cls) {
-          std::size_t both = 0, either = 0;
-          for (std::size_t i = 0; i < n; ++i) {
-            const bool a = exact.valid[i] && class_of(exact.label[i]) == cls, b = class_of(cyc.part[i]) == cls;
-            both += a && b;
-            either += a || b;
-          }
-          iou[cls] = either ? static_cast<double>(both) / either : std::nan("");
-        }
         // Class mean colours (8-bit sRGB decoded to linear, averaged, to L*a*b*).
         double de[4];
         for (int cls = 0; cls < 4; ++cls) {
@@ -177,8 +179,6 @@ int main(int argc, char** argv) {
           de[cls] = m >= 20 ? ciede2000(linear_rgb_to_lab(sr / m), linear_rgb_to_lab(sc / m)) : std::nan("");
         }
         const double ssim = luminance_ssim(dr.rgb, dc.rgb, W, H);
-        std::vector<std::uint8_t> label(n);
-        for (std::size_t i = 0; i < n; ++i) label[i] = exact.valid[i] ? exact.label[i] : 255;
         const double gr = boundary_gradient_median(dr.rgb, label, W, H), gc = boundary_gradient_median(dc.rgb, label, W, H);
         char line[512];
         std::snprintf(line, sizeof line, "%zu,%d,%s,%s,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.4f,%.1f,%.1f,%.2f,%.2f\n", k,

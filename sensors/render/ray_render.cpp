@@ -498,14 +498,18 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   std::vector<Eigen::Array3f> lit_front, lit_back;
   const auto lit_f = [&](std::size_t j) -> const Eigen::Array3f& { return lit_front[j]; };
   const auto lit_b = [&](std::size_t j) -> const Eigen::Array3f& { return lit_back[j]; };
+  // Pass p (from 1) filters at step 2^(p-1), the first from the raw light.
+  const auto filter_pass = [&](int pass, int u, int v, Eigen::Array3f& f, Eigen::Array3f& b) {
+    if (pass == 1) filter(u, v, 1, raw_front, raw_back, f, b);
+    else filter(u, v, 1 << (pass - 1), lit_f, lit_b, f, b);
+  };
   for (int pass = 1; pass < camera.sky_filter; ++pass) {
     std::vector<Eigen::Array3f> nf(npix), nb(npix);
     for_rows(H, [&](int r0, int r1) {
       for (int v = r0; v < r1; ++v)
         for (int u = 0; u < W; ++u) {
           const std::size_t i = static_cast<std::size_t>(v) * W + u;
-          if (pass == 1) filter(u, v, 1, raw_front, raw_back, nf[i], nb[i]);
-          else filter(u, v, 1 << (pass - 1), lit_f, lit_b, nf[i], nb[i]);
+          filter_pass(pass, u, v, nf[i], nb[i]);
         }
     });
     lit_front.swap(nf), lit_back.swap(nb);
@@ -518,8 +522,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         const Pixel& c = centre[i];
         Eigen::Array3f f, b;
-        if (camera.sky_filter == 1) filter(u, v, 1, raw_front, raw_back, f, b);
-        else filter(u, v, 1 << (camera.sky_filter - 1), lit_f, lit_b, f, b);
+        filter_pass(camera.sky_filter, u, v, f, b);
         const C3 px = M_PI * (c.direct.cast<double>() + c.albedo.cast<double>() * f.cast<double>() +
                               c.trans.cast<double>() * b.cast<double>());  // radiance times pi
         for (int ch = 0; ch < 3; ++ch) out.linear[3 * i + ch] = static_cast<float>(px[ch]);
