@@ -15,7 +15,9 @@ A group is a run's scene and condition without the draw key; LABEL=FILE puts eve
 of FILE in group LABEL (with the condition, if FILE has more than one), so draws made by
 two scene files (a redraw written as its own scene) count as one group. A draw is a file
 and its draw key's value. The pooled spread assumes the draws scatter alike in every
-group with two or more of them; each group's own is printed beside it.
+group with two or more of them; each group's own is printed beside it. A draw whose
+figure is undefined (nan: the estimator scored no berry point, or only berries) is left
+out of the means and counted beside them.
 """
 import argparse
 import collections
@@ -78,11 +80,20 @@ def read(specs, draw_key, quantity, estimators):
     return groups
 
 
+def defined(cells, estimator):
+    """The estimator's figures over the draws, the undefined (nan) ones left out."""
+    return [v for v in cells.get(estimator, {}).values() if not math.isnan(v)]
+
+
+def undefined(cells, estimator):
+    return sum(1 for v in cells.get(estimator, {}).values() if math.isnan(v))
+
+
 def pooled(groups, estimator):
     """The draws' pooled standard deviation and its degrees of freedom, or None."""
     ss, df = 0.0, 0
     for cells in groups.values():
-        v = list(cells.get(estimator, {}).values())
+        v = defined(cells, estimator)
         if len(v) >= 2:
             ss += statistics.variance(v) * (len(v) - 1)
             df += len(v) - 1
@@ -122,9 +133,11 @@ def main():
         n = max(len(cells.get(e, {})) for e in estimators)
         out = []
         for e in estimators:
-            v = list(cells.get(e, {}).values())
-            out.append("-" if not v else "%.3f (%.3f)" % (statistics.mean(v), statistics.stdev(v)) if len(v) > 1
-                       else "%.3f" % v[0])
+            v = defined(cells, e)
+            text = "-" if not v else "%.3f (%.3f)" % (statistics.mean(v), statistics.stdev(v)) if len(v) > 1 \
+                else "%.3f" % v[0]
+            nan = undefined(cells, e)
+            out.append(text + (", %d undefined" % nan if nan else ""))
         print("| %s | %d | %s |" % (g, n, " | ".join(out)))
     print("| pooled sd (degrees of freedom) | | %s |"
           % " | ".join("%.4f (%d)" % spreads[e] if spreads[e] else "-" for e in estimators))
@@ -139,7 +152,7 @@ def main():
             continue
         out = []
         for e in estimators:
-            x, y = list(cells.get(e, {}).values()), list(groups[a.against].get(e, {}).values())
+            x, y = defined(cells, e), defined(groups[a.against], e)
             if not x or not y:
                 out.append("-")
                 continue

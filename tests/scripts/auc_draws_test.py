@@ -51,6 +51,18 @@ class Draws(unittest.TestCase):
             self.assertIn("| ray: sky_samples=1 | -0.100 [", out.getvalue())
             self.assertIn("| pooled sd (degrees of freedom) | | 0.0231 (3) |", out.getvalue())
 
+    def test_an_undefined_draw_is_counted_not_averaged(self):
+        # Found on a 320 x 240 section where some draws scored no berry point: the
+        # script raised AttributeError out of statistics.stdev on the nan.
+        with tempfile.TemporaryDirectory() as d:
+            ray = write(d, "ray.csv", [row("ray", 1, s, v) for s, v in enumerate([0.70, float("nan"), 0.74])])
+            cyc = write(d, "cyc.csv", [row("cyc", 1, s, v) for s, v in enumerate([0.80, 0.84])])
+            p = subprocess.run(["/usr/bin/python3", SCRIPT, ray, "cycles=" + cyc, "--against", "cycles"],
+                               capture_output=True, text=True)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("| ray: sky_samples=1 | 3 | 0.720 (0.028), 1 undefined |", p.stdout)
+            self.assertIn("| ray: sky_samples=1 | -0.100 [", p.stdout)  # the two defined draws
+
     def test_bad_input_exits_2_naming_the_file(self):
         with tempfile.TemporaryDirectory() as d:
             twice = write(d, "twice.csv", [row("ray", 1, 0, 0.7), row("ray", 1, 0, 0.8)])
