@@ -75,6 +75,11 @@ const RayScene& foliage_scene() {
   static const RayScene scene(setup().bunch, std::nullopt, generate_foliage(FoliageParams{}, setup().bunch, 9));
   return scene;
 }
+// OSMesa's rasteriser (llvmpipe) runs threads of its own, one a core, beside the
+// caller: run with LP_NUM_THREADS=0 it rasterises on the calling thread, one core as
+// the `ray` images below at one thread; left unset, the pair has both cores, against
+// BM_RayImageFoliageTwoCores (on 2 cores the pair is slower with TBB at 2 threads
+// than at 1, so 1 is its best; docs/sensors.md, "Speed").
 void BM_StereoRenderFoliage(benchmark::State& state) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   const StereoRgb rig(setup().params);
@@ -95,8 +100,8 @@ BENCHMARK(BM_StereoRenderRayFoliage)->Unit(benchmark::kMillisecond);
 // OpenGL pair with its labels; the goal is a ratio at or under 1. The render scene
 // (row copies merged) is built once a pair, outside the loop as the RayScene is:
 // BM_RayRenderScene* times it, and an image's share is half of it.
-void ray_image(benchmark::State& state, const RayScene& scene, int sky_filter = 1) {
-  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+void ray_image(benchmark::State& state, const RayScene& scene, int sky_filter = 1, int threads = 1) {
+  const tbb::global_control cap(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   StereoRgbParams p = setup().params;
   p.renderer = StereoRgbParams::Renderer::Ray;
   p.camera.sky_filter = sky_filter;
@@ -119,6 +124,11 @@ void BM_RayImageFoliageSkyFilter(benchmark::State& state) {
   ray_image(state, foliage_scene(), static_cast<int>(state.range(0)));
 }
 BENCHMARK(BM_RayImageFoliageSkyFilter)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
+// One `ray` image on two threads, against BM_StereoRenderFoliage with LP_NUM_THREADS unset.
+void BM_RayImageFoliageTwoCores(benchmark::State& state) {
+  ray_image(state, foliage_scene(), static_cast<int>(state.range(0)), 2);
+}
+BENCHMARK(BM_RayImageFoliageTwoCores)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_RayRenderSceneFoliage(benchmark::State& state) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   const AppearanceParams look = setup().params.appearance;
