@@ -1,5 +1,5 @@
 #include "bench/build_info.h"
-#include "bench/fnv1a.h"
+#include "synth/fnv1a.h"
 
 #include "grapebench_git_describe.h"  // generated at build time (cmake/git_describe.cmake)
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "bench/build_info.h"
-#include "bench/fnv1a.h"
+#include "synth/fnv1a.h"
 #include "bench/heap_meter.h"
 #include "synth/io.h"
 #include "synth/utf8.h"

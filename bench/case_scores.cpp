@@ -1,6 +1,6 @@
 #include "bench/case_scores.h"
 
-#include "bench/fnv1a.h"
+#include "synth/fnv1a.h"
 #include "bench/size_error.h"
 #include "synth/rng.h"
 

@@ -3,7 +3,7 @@
 #include <map>
 #include <set>
 
-#include "bench/fnv1a.h"
+#include "synth/fnv1a.h"
 #include "bench/image_truth.h"
 #include "synth/rng.h"
 

@@ -1,11 +1,12 @@
 #include "bench/runner.h"
 
 #include "bench/build_info.h"
-#include "bench/scene_file.h"
-#include "bench/fnv1a.h"
 #include "bench/outputs.h"
 #include "bench/progress.h"
+#include "bench/scene_file.h"
+#include "sensors/render/cycles_render.h"
 #include "synth/confined_program.h"
+#include "synth/fnv1a.h"
 #include "synth/io.h"
 #include "synth/read_regular_file.h"
 
@@ -223,6 +224,13 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   fs::create_directories(o.out / "cases");
   claim_scene_folder(set, o.out);
   hide_from_programs(o.out);  // no program it starts sees the cases and their truth
+  // Cycles' images kept in the run folder: a resumed run, or one with another
+  // estimator, renders none twice (sensors/render/cycles_render.h).
+  struct CacheFor {
+    std::filesystem::path was = cycles_cache();
+    explicit CacheFor(const std::filesystem::path& folder) { set_cycles_cache(folder); }
+    ~CacheFor() { set_cycles_cache(was); }
+  } const cache(o.out / "cycles_cache");
   const auto refs = all_cases(set, o.out);
   RunOutcome outcome;
   outcome.cases = static_cast<int>(refs.size());

@@ -1,17 +1,22 @@
 #include "sensors/render/cycles_render.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 
 #include "sensors/render/row_copies.h"
 #include "sensors/render/wood_atlas.h"
 #include "synth/confined_program.h"
+#include "synth/fnv1a.h"
+#include "synth/io.h"
 #include "synth/png.h"
+#include "synth/read_regular_file.h"
 
 #ifndef GRAPEBENCH_CYCLES_SCRIPT
 #error "GRAPEBENCH_CYCLES_SCRIPT: the path of sensors/render/cycles_scene.py (set by CMake)"
@@ -44,6 +49,42 @@ std::vector<T> read_raw(const std::filesystem::path& path, std::size_t count) {
   f.seekg(0);
   f.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(size));
   return v;
+}
+
+std::mutex cache_mutex;
+std::filesystem::path cache_folder;
+
+// The cache key of the render `work` holds (every file but Blender's two answers, by
+// name and bytes), the script and Blender's binary: 16 hex digits.
+std::string render_key(const std::filesystem::path& work, const std::string& blender) {
+  std::uint64_t h = fnv1a("grapebench-cycles-cache-1");
+  const auto add_file = [&](const std::filesystem::path& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw std::runtime_error("cycles: cannot read " + path.string() + " for the render cache's key");
+    std::string chunk(1 << 20, '\0');
+    while (f.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || f.gcount() > 0)
+      h = fnv1a(std::string_view(chunk.data(), static_cast<std::size_t>(f.gcount())), h);
+  };
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(work)) {
+    const std::string name = e.path().filename().string();
+    if (e.is_regular_file() && name != "colour.f32" && name != "index.i32") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) {
+    h = fnv1a(f.filename().string() + '\0', h);
+    add_file(f);
+  }
+  add_file(GRAPEBENCH_CYCLES_SCRIPT);
+  std::error_code ec;
+  const std::filesystem::path real = std::filesystem::canonical(blender, ec);
+  const std::filesystem::path bin = ec ? std::filesystem::path(blender) : real;
+  const auto size = std::filesystem::file_size(bin, ec);
+  const auto time = std::filesystem::last_write_time(bin, ec).time_since_epoch().count();
+  h = fnv1a(bin.string() + '\0' + std::to_string(size) + '\0' + std::to_string(time), h);
+  char digest[17];
+  std::snprintf(digest, sizeof digest, "%016llx", static_cast<unsigned long long>(h));
+  return digest;
 }
 
 // The leaves of a foliage as fans: the centre vertex of each, the triangles in order.
@@ -273,6 +314,37 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   std::filesystem::remove(work / "colour.f32");
   std::filesystem::remove(work / "index.i32");
 
+  const std::size_t n = static_cast<std::size_t>(W) * H;
+  CyclesRenderResult out;
+  // Blender's answer read from `colour` and `index` (its own files or the cache's);
+  // throws std::runtime_error naming what is wrong.
+  const auto read_answer = [&](const std::filesystem::path& colour, const std::filesystem::path& index) {
+    out.linear = read_raw<float>(colour, 3 * n);
+    for (float& v : out.linear) {
+      if (!std::isfinite(v) || v < 0) throw std::runtime_error("cycles: colour.f32 holds a value that is not a radiance");
+      v = static_cast<float>(v * M_PI);
+    }
+    const std::vector<std::int32_t> ids = read_raw<std::int32_t>(index, n);
+    out.part.assign(n, static_cast<std::uint8_t>(Part::None));
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ids[i] < 0 || static_cast<std::size_t>(ids[i]) >= part_of_id.size())
+        throw std::runtime_error("cycles: index.i32 holds id " + std::to_string(ids[i]) + " at pixel " + std::to_string(i) +
+                                 ", outside [0, " + std::to_string(part_of_id.size() - 1) + "]");
+      out.part[i] = static_cast<std::uint8_t>(part_of_id[static_cast<std::size_t>(ids[i])]);
+    }
+  };
+  const std::filesystem::path cache = cycles_cache();
+  const std::string key = cache.empty() ? std::string() : render_key(work, blender);
+  const std::filesystem::path cached_colour = cache / (key + ".colour.f32"), cached_index = cache / (key + ".index.i32");
+  if (!cache.empty() && std::filesystem::exists(cached_colour) && std::filesystem::exists(cached_index)) {
+    try {
+      read_answer(cached_colour, cached_index);
+      out.cached = true;
+      return out;
+    } catch (const std::runtime_error&) {  // damaged: rendered again below, and replaced
+    }
+  }
+
   const ProgramLimits limits = cycles_program_limits(cycles, blender);
   const auto t0 = std::chrono::steady_clock::now();
   ConfinedProgram blender_run({blender, "-b", "--factory-startup", "-noaudio", "-P", GRAPEBENCH_CYCLES_SCRIPT, "--",
@@ -280,7 +352,6 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
                               work, limits);
   const auto end = blender_run.wait(t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                               std::chrono::duration<double>(cycles.time_limit)));
-  CyclesRenderResult out;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (end == ConfinedProgram::End::TimedOut) {
     char why[160];
@@ -289,21 +360,23 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   }
   if (end != ConfinedProgram::End::Exited || !blender_run.failure().empty())
     throw std::runtime_error("cycles: Blender failed (" + blender_run.failure() + "): " + blender_run.error_tail());
-  const std::size_t n = static_cast<std::size_t>(W) * H;
-  out.linear = read_raw<float>(work / "colour.f32", 3 * n);
-  for (float& v : out.linear) {
-    if (!std::isfinite(v) || v < 0) throw std::runtime_error("cycles: colour.f32 holds a value that is not a radiance");
-    v = static_cast<float>(v * M_PI);
-  }
-  const std::vector<std::int32_t> index = read_raw<std::int32_t>(work / "index.i32", n);
-  out.part.assign(n, static_cast<std::uint8_t>(Part::None));
-  for (std::size_t i = 0; i < n; ++i) {
-    if (index[i] < 0 || static_cast<std::size_t>(index[i]) >= part_of_id.size())
-      throw std::runtime_error("cycles: index.i32 holds id " + std::to_string(index[i]) + " at pixel " + std::to_string(i) +
-                               ", outside [0, " + std::to_string(part_of_id.size() - 1) + "]");
-    out.part[i] = static_cast<std::uint8_t>(part_of_id[static_cast<std::size_t>(index[i])]);
+  read_answer(work / "colour.f32", work / "index.i32");
+  if (!cache.empty()) {  // only an answer that passed the checks above
+    std::filesystem::create_directories(cache);
+    write_file_atomic(cached_colour, read_regular_file(work / "colour.f32", 3 * n * sizeof(float)));
+    write_file_atomic(cached_index, read_regular_file(work / "index.i32", n * sizeof(std::int32_t)));
   }
   return out;
+}
+
+void set_cycles_cache(const std::filesystem::path& folder) {
+  const std::lock_guard<std::mutex> lock(cache_mutex);
+  cache_folder = folder;
+}
+
+std::filesystem::path cycles_cache() {
+  const std::lock_guard<std::mutex> lock(cache_mutex);
+  return cache_folder;
 }
 
 ProgramLimits cycles_program_limits(const CyclesParams& cycles, const std::string& blender) {

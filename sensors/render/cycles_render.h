@@ -42,8 +42,21 @@ ProgramLimits cycles_program_limits(const CyclesParams& cycles, const std::strin
 struct CyclesRenderResult {
   std::vector<float> linear;      // H x W x 3, radiance times pi (as ray_render's)
   std::vector<std::uint8_t> part; // H x W, the Part of the object seen (Cycles' object-index pass); None elsewhere
-  double seconds = 0;             // Blender's wall time, start-up included
+  double seconds = 0;             // Blender's wall time, start-up included (0 from the cache)
+  bool cached = false;            // read from the render cache (set_cycles_cache), Blender not run
 };
+
+// The render cache: a folder of Blender's answers keyed by everything that makes them
+// (the exported scene, its atlases, the script, and Blender's binary by path, size and
+// time; FNV-1a 64 over the bytes). A hit reads the bytes Blender wrote for the same
+// input, so the image is the one a new render gives (Cycles is seeded). Empty (the
+// default): no cache. `grapebench run` sets it to the run folder's cycles_cache/, so a
+// run that stopped, or a scene given another estimator, renders no image twice
+// (an image takes 30-130 s). An entry of the wrong size or holding a value that is
+// not a radiance is rendered again and replaced; entries are written whole (renamed
+// into place).
+void set_cycles_cache(const std::filesystem::path& folder);
+std::filesystem::path cycles_cache();
 
 // Blender is `blender` from PATH, or $GRAPEBENCH_BLENDER. `work` is a folder for the
 // exported scene and Blender's outputs (created; left in place). Throws InputError when

@@ -354,6 +354,45 @@ TEST(Run, InterruptedRunsResumeToTheSameResultsAndThreadsDoNotMatter) {
 // Reproducer: a failed row's NaN estimate is written as null, and reading null as a
 // double threw, so every case with such a row (most stereo_pair cases) was recomputed
 // on resume instead of reused.
+// A run keeps Cycles' images in its folder's cycles_cache/ (sensors/render/cycles_render.h):
+// run again from scratch (--no-resume) with a Blender that now crashes, every image is
+// read from there and the results are the first run's. The Blender is a fake writing
+// black images of the right size (the wiring is tested, not Cycles).
+TEST(Run, ARunRendersNoCyclesImageTwice) {
+  if (std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "bubblewrap cannot make namespaces here (Blender runs under it)";
+  const fs::path out = fresh_dir("cycles_cache");
+  const fs::path bin = fresh_dir("cycles_cache_bin");
+  fs::create_directories(bin);
+  std::ofstream(bin / "blender") << "#!/bin/sh\nd=$(dirname \"$7\")\n"
+                                    "if [ -e \"$(dirname \"$0\")/crash\" ]; then kill -SEGV $$; fi\n"
+                                    "head -c 49152 /dev/zero > \"$d/colour.f32\"; head -c 16384 /dev/zero > \"$d/index.i32\"\n";
+  fs::permissions(bin / "blender", fs::perms::owner_all);
+  setenv("GRAPEBENCH_BLENDER", (bin / "blender").c_str(), 1);
+  const SceneSet set = parse_scene_set(R"(name: cycles_cache
+seed: 1001
+protocol: stereo_pair
+bunches:
+  - preset: summer-black
+    count: 1
+sensor: {type: stereo_rgb, width: 64, height: 64, renderer: cycles, light: front, cycles: {leaf_texels: 16}}
+foliage: {}
+rig: {type: stereo_stations, distances: [0.45, 0.65]}
+estimators:
+  - {type: luo2016_stereo, name: luo_eq6}
+)", "cycles_cache.yaml");
+  EXPECT_EQ(run_scene_set(set, quiet(out)).computed, 1);
+  const std::string first = slurp(out / "results.csv");
+  EXPECT_EQ(std::distance(fs::directory_iterator(out / "cycles_cache"), fs::directory_iterator()), 8);  // 2 pairs, 2 files an image
+  std::ofstream(bin / "crash") << "";
+  RunOptions again = quiet(out);
+  again.resume = false;
+  EXPECT_EQ(run_scene_set(set, again).computed, 1);
+  EXPECT_EQ(slurp(out / "results.csv"), first);
+  EXPECT_EQ(first.find("Blender"), std::string::npos) << first;
+  unsetenv("GRAPEBENCH_BLENDER");
+}
+
 TEST(Run, ACaseWithAFailedRowsNanEstimateReadsBack) {
   CaseResult c;
   c.key = "k";

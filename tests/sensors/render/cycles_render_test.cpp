@@ -9,6 +9,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -116,6 +117,53 @@ TEST(CyclesRender, ACrashAnOverrunAndAWrongAnswerAreNamedFailures) {
                       const std::string e = failure_of(f, cp, dir / "w4");
                       EXPECT_NE(e.find("index.i32 holds id"), std::string::npos) << e;
                     });
+}
+
+// The render cache: the same input is answered from it without Blender (a fake that
+// crashes once a flag file is beside it), another input is not, and a damaged entry
+// is rendered again and replaced.
+TEST(CyclesRender, TheCacheAnswersTheSameInputWithoutBlenderAndNoOtherInput) {
+  const Fixture f(40, 30);
+  CyclesParams cp;
+  cp.sandbox = sandbox_here();
+  cp.leaf_texels = 16;
+  const TempFolder t("grapebench-cycles-cache");
+  std::filesystem::create_directories(t.path / "bin");
+  const auto fake = t.path / "bin" / "blender";
+  std::ofstream(fake) << "#!/bin/sh\nd=$(dirname \"$7\")\n"
+                         "if [ -e \"$(dirname \"$0\")/crash\" ]; then echo 'Segmentation fault' >&2; kill -SEGV $$; fi\n"
+                         "head -c 14400 /dev/zero > \"$d/colour.f32\"; head -c 4800 /dev/zero > \"$d/index.i32\"\n";
+  std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
+  setenv("GRAPEBENCH_BLENDER", fake.c_str(), 1);
+  set_cycles_cache(t.path / "cache");
+  const auto render = [&](const CyclesParams& c, const char* work) {
+    return cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, c, 1, t.path / work);
+  };
+  const auto entries = [&] {
+    std::vector<std::uintmax_t> sizes;
+    for (const auto& e : std::filesystem::directory_iterator(t.path / "cache")) sizes.push_back(e.file_size());
+    std::sort(sizes.begin(), sizes.end());
+    return sizes;
+  };
+  const CyclesRenderResult first = render(cp, "w1");
+  EXPECT_FALSE(first.cached);
+  EXPECT_EQ(entries(), (std::vector<std::uintmax_t>{4800, 14400}));
+  std::ofstream(t.path / "bin" / "crash") << "";
+  const CyclesRenderResult again = render(cp, "w2");  // another work folder, the same input
+  EXPECT_TRUE(again.cached);
+  EXPECT_EQ(again.linear, first.linear);
+  EXPECT_EQ(again.part, first.part);
+  CyclesParams more = cp;
+  more.samples = 2;
+  EXPECT_NE(failure_of(f, more, t.path / "w3").find("Blender failed"), std::string::npos);
+  for (const auto& e : std::filesystem::directory_iterator(t.path / "cache"))
+    if (e.file_size() == 14400) std::filesystem::resize_file(e.path(), 100);
+  EXPECT_NE(failure_of(f, cp, t.path / "w4").find("Blender failed"), std::string::npos);  // not read from it
+  std::filesystem::remove(t.path / "bin" / "crash");
+  EXPECT_FALSE(render(cp, "w5").cached);
+  EXPECT_EQ(entries(), (std::vector<std::uintmax_t>{4800, 14400}));  // replaced whole
+  set_cycles_cache({});
+  unsetenv("GRAPEBENCH_BLENDER");
 }
 
 bool have_blender() { return !find_program("blender").empty(); }

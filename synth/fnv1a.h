@@ -1,4 +1,5 @@
-// FNV-1a 64: the one hash of case keys, bootstrap seeds and the build identity.
+// FNV-1a 64: the one hash of case keys, bootstrap seeds, the build identity and the
+// Cycles render cache's keys.
 // `h` continues a hash over several pieces (a file read in chunks).
 #pragma once
 
