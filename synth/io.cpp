@@ -1,5 +1,7 @@
 #include "synth/io.h"
 
+#include <atomic>
+
 #include "synth/utf8.h"
 
 #include <unistd.h>
@@ -14,7 +16,11 @@
 namespace grapebench {
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes) {
-  const auto tmp = path.string() + ".tmp." + std::to_string(::getpid());
+  // Unique per call, not only per process: two threads writing one path (two cases
+  // storing the same render in the cache) would share a pid-named temp file, and the
+  // slower one's rename would fail (or the file hold the other's half-written bytes).
+  static std::atomic<std::uint64_t> calls{0};
+  const auto tmp = path.string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(++calls);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path.string() + ": cannot open for writing");

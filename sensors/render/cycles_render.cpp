@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 
@@ -53,6 +54,17 @@ std::vector<T> read_raw(const std::filesystem::path& path, std::size_t count) {
 
 std::mutex cache_mutex;
 std::filesystem::path cache_folder;
+std::map<std::string, std::weak_ptr<std::mutex>> key_locks;  // renders under way, by key
+
+// Held while an entry is looked up, rendered and stored: two cases rendering the same
+// image at once (a sweep of an estimator's key) render it once, the second reads it.
+std::shared_ptr<std::mutex> lock_for(const std::string& key) {
+  const std::lock_guard<std::mutex> lock(cache_mutex);
+  std::erase_if(key_locks, [](const auto& e) { return e.second.expired(); });
+  std::shared_ptr<std::mutex> m = key_locks[key].lock();
+  if (!m) key_locks[key] = m = std::make_shared<std::mutex>();
+  return m;
+}
 
 // The cache key of the render `work` holds (every file but Blender's two answers, by
 // name and bytes), the script and Blender's binary: 16 hex digits.
@@ -336,6 +348,9 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   const std::filesystem::path cache = cycles_cache();
   const std::string key = cache.empty() ? std::string() : render_key(work, blender);
   const std::filesystem::path cached_colour = cache / (key + ".colour.f32"), cached_index = cache / (key + ".index.i32");
+  const std::shared_ptr<std::mutex> key_lock = cache.empty() ? nullptr : lock_for(key);
+  std::unique_lock<std::mutex> rendering;
+  if (key_lock) rendering = std::unique_lock<std::mutex>(*key_lock);
   if (!cache.empty() && std::filesystem::exists(cached_colour) && std::filesystem::exists(cached_index)) {
     try {
       read_answer(cached_colour, cached_index);
@@ -362,9 +377,13 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
     throw std::runtime_error("cycles: Blender failed (" + blender_run.failure() + "): " + blender_run.error_tail());
   read_answer(work / "colour.f32", work / "index.i32");
   if (!cache.empty()) {  // only an answer that passed the checks above
-    std::filesystem::create_directories(cache);
-    write_file_atomic(cached_colour, read_regular_file(work / "colour.f32", 3 * n * sizeof(float)));
-    write_file_atomic(cached_index, read_regular_file(work / "index.i32", n * sizeof(std::int32_t)));
+    try {
+      std::filesystem::create_directories(cache);
+      write_file_atomic(cached_colour, read_regular_file(work / "colour.f32", 3 * n * sizeof(float)));
+      write_file_atomic(cached_index, read_regular_file(work / "index.i32", n * sizeof(std::int32_t)));
+    } catch (const std::exception& e) {  // the render stands; only the next run renders it again
+      std::fprintf(stderr, "warning: cycles: the render cache could not keep an image: %s\n", e.what());
+    }
   }
   return out;
 }

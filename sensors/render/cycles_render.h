@@ -46,15 +46,18 @@ struct CyclesRenderResult {
   bool cached = false;            // read from the render cache (set_cycles_cache), Blender not run
 };
 
-// The render cache: a folder of Blender's answers keyed by everything that makes them
-// (the exported scene, its atlases, the script, and Blender's binary by path, size and
-// time; FNV-1a 64 over the bytes). A hit reads the bytes Blender wrote for the same
-// input, so the image is the one a new render gives (Cycles is seeded). Empty (the
-// default): no cache. `grapebench run` sets it to the run folder's cycles_cache/, so a
-// run that stopped, or a scene given another estimator, renders no image twice
-// (an image takes 30-130 s). An entry of the wrong size or holding a value that is
-// not a radiance is rendered again and replaced; entries are written whole (renamed
-// into place).
+// The render cache: a folder of Blender's answers keyed by what the harness gives
+// Blender (the exported scene with the camera, light, samples, bounces, threads and
+// seed, its atlases, the script) and Blender's binary by path, size and time (FNV-1a
+// 64 over the bytes); not by Blender's libraries, data files or environment: clear
+// the folder after changing those. A hit reads the bytes Blender wrote for the same
+// input, so the image is the one a new render gives (Cycles is seeded), and skips
+// `time_limit`. Empty (the default): no cache. `grapebench run` sets it to the run
+// folder's cycles_cache/, so a run that stopped, or a scene given another estimator,
+// renders no image twice (an image takes 30-130 s); two cases of one run needing the
+// same image at once render it once. An entry of the wrong size or holding a value
+// that is not a radiance is rendered again and replaced; entries are written whole
+// (renamed into place); an entry that cannot be written is warned about on stderr.
 void set_cycles_cache(const std::filesystem::path& folder);
 std::filesystem::path cycles_cache();
 

@@ -10,9 +10,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <thread>
 
 #include "sensors/ideal.h"
 #include "sensors/render/ray_render.h"
@@ -119,51 +121,91 @@ TEST(CyclesRender, ACrashAnOverrunAndAWrongAnswerAreNamedFailures) {
                     });
 }
 
-// The render cache: the same input is answered from it without Blender (a fake that
-// crashes once a flag file is beside it), another input is not, and a damaged entry
-// is rendered again and replaced.
-TEST(CyclesRender, TheCacheAnswersTheSameInputWithoutBlenderAndNoOtherInput) {
-  const Fixture f(40, 30);
-  CyclesParams cp;
-  cp.sandbox = sandbox_here();
-  cp.leaf_texels = 16;
-  const TempFolder t("grapebench-cycles-cache");
-  std::filesystem::create_directories(t.path / "bin");
-  const auto fake = t.path / "bin" / "blender";
-  std::ofstream(fake) << "#!/bin/sh\nd=$(dirname \"$7\")\n"
-                         "if [ -e \"$(dirname \"$0\")/crash\" ]; then echo 'Segmentation fault' >&2; kill -SEGV $$; fi\n"
-                         "head -c 14400 /dev/zero > \"$d/colour.f32\"; head -c 4800 /dev/zero > \"$d/index.i32\"\n";
-  std::filesystem::permissions(fake, std::filesystem::perms::owner_all);
-  setenv("GRAPEBENCH_BLENDER", fake.c_str(), 1);
-  set_cycles_cache(t.path / "cache");
-  const auto render = [&](const CyclesParams& c, const char* work) {
-    return cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, c, 1, t.path / work);
-  };
-  const auto entries = [&] {
+// The render cache, with a fake Blender whose answer the test steers by files beside
+// it: `byte` (the octal byte its colour file repeats: 0100 reads 3.004, 077 0.747),
+// `crash` (it crashes) and `short` (a colour file of 100 bytes). The same input is
+// answered from the cache (the first answer's bytes, Blender not run); another input
+// (a key of scene.json, or only the leaf atlas's texture) is not; a truncated entry
+// is not read; a wrong answer is not kept; two threads needing one new image at once
+// render it once.
+struct FakeBlender {
+  TempFolder t{"grapebench-cycles-cache"};
+  std::filesystem::path bin = t.path / "bin";
+  FakeBlender() {
+    std::filesystem::create_directories(bin);
+    std::ofstream(bin / "blender") << "#!/bin/sh\nd=$(dirname \"$7\"); b=$(dirname \"$0\")\n"
+                                      "if [ -e \"$b/crash\" ]; then kill -SEGV $$; fi\n"
+                                      "n=14400; if [ -e \"$b/short\" ]; then n=100; fi\n"
+                                      "head -c $n /dev/zero | tr '\\000' \"$(cat \"$b/byte\")\" > \"$d/colour.f32\"\n"
+                                      "head -c 4800 /dev/zero > \"$d/index.i32\"\n";
+    std::filesystem::permissions(bin / "blender", std::filesystem::perms::owner_all);
+    answer("\\100");
+    setenv("GRAPEBENCH_BLENDER", (bin / "blender").c_str(), 1);
+    set_cycles_cache(t.path / "cache");
+  }
+  ~FakeBlender() {
+    set_cycles_cache({});
+    unsetenv("GRAPEBENCH_BLENDER");
+  }
+  void answer(const char* octal) const { std::ofstream(bin / "byte") << octal; }
+  void flag(const char* name, bool on) const {
+    if (on) std::ofstream(bin / name) << "";
+    else std::filesystem::remove(bin / name);
+  }
+  std::vector<std::uintmax_t> entries() const {
     std::vector<std::uintmax_t> sizes;
     for (const auto& e : std::filesystem::directory_iterator(t.path / "cache")) sizes.push_back(e.file_size());
     std::sort(sizes.begin(), sizes.end());
     return sizes;
+  }
+};
+
+TEST(CyclesRender, TheCacheAnswersTheSameInputWithoutBlenderAndNoOtherInput) {
+  Fixture f(40, 30);
+  CyclesParams cp;
+  cp.sandbox = sandbox_here();
+  cp.leaf_texels = 16;
+  const FakeBlender fake;
+  const auto render = [&](const CyclesParams& c, const std::string& work) {
+    return cycles_render(f.scene, f.cam, f.light, f.look, f.camera, 0.006, c, 1, fake.t.path / work);
   };
   const CyclesRenderResult first = render(cp, "w1");
   EXPECT_FALSE(first.cached);
-  EXPECT_EQ(entries(), (std::vector<std::uintmax_t>{4800, 14400}));
-  std::ofstream(t.path / "bin" / "crash") << "";
+  EXPECT_NEAR(first.linear[0], 3.0039 * M_PI, 0.001);
+  EXPECT_EQ(fake.entries(), (std::vector<std::uintmax_t>{4800, 14400}));
+  fake.answer("\\077");
   const CyclesRenderResult again = render(cp, "w2");  // another work folder, the same input
   EXPECT_TRUE(again.cached);
-  EXPECT_EQ(again.linear, first.linear);
+  EXPECT_EQ(again.linear, first.linear);  // the first answer's bytes, not the fake's new ones
   EXPECT_EQ(again.part, first.part);
+  fake.flag("crash", true);
   CyclesParams more = cp;
-  more.samples = 2;
-  EXPECT_NE(failure_of(f, more, t.path / "w3").find("Blender failed"), std::string::npos);
-  for (const auto& e : std::filesystem::directory_iterator(t.path / "cache"))
+  more.samples = 2;  // a key of scene.json
+  EXPECT_NE(failure_of(f, more, fake.t.path / "w3").find("Blender failed"), std::string::npos);
+  f.look.leaf_texture = 0.3;  // only the leaf atlas's texels change
+  EXPECT_NE(failure_of(f, cp, fake.t.path / "w4").find("Blender failed"), std::string::npos);
+  f.look.leaf_texture = AppearanceParams{}.leaf_texture;
+  for (const auto& e : std::filesystem::directory_iterator(fake.t.path / "cache"))
     if (e.file_size() == 14400) std::filesystem::resize_file(e.path(), 100);
-  EXPECT_NE(failure_of(f, cp, t.path / "w4").find("Blender failed"), std::string::npos);  // not read from it
-  std::filesystem::remove(t.path / "bin" / "crash");
-  EXPECT_FALSE(render(cp, "w5").cached);
-  EXPECT_EQ(entries(), (std::vector<std::uintmax_t>{4800, 14400}));  // replaced whole
-  set_cycles_cache({});
-  unsetenv("GRAPEBENCH_BLENDER");
+  EXPECT_NE(failure_of(f, cp, fake.t.path / "w5").find("Blender failed"), std::string::npos);  // not read from it
+  fake.flag("crash", false);
+  const CyclesRenderResult redone = render(cp, "w6");
+  EXPECT_FALSE(redone.cached);
+  EXPECT_NEAR(redone.linear[0], 0.747 * M_PI, 0.001);
+  EXPECT_EQ(fake.entries(), (std::vector<std::uintmax_t>{4800, 14400}));  // replaced whole
+  fake.flag("short", true);
+  CyclesParams other = cp;
+  other.samples = 3;
+  EXPECT_NE(failure_of(f, other, fake.t.path / "w7").find("holds 100 bytes"), std::string::npos);
+  EXPECT_EQ(fake.entries(), (std::vector<std::uintmax_t>{4800, 14400}));  // a wrong answer is not kept
+  fake.flag("short", false);
+  other.samples = 4;
+  CyclesRenderResult one, two;
+  std::thread a([&] { one = render(other, "w8"); });
+  std::thread b([&] { two = render(other, "w9"); });
+  a.join(), b.join();
+  EXPECT_NE(one.cached, two.cached);  // one rendered, the other read it
+  EXPECT_EQ(one.linear, two.linear);
 }
 
 bool have_blender() { return !find_program("blender").empty(); }
