@@ -66,6 +66,13 @@ std::shared_ptr<std::mutex> lock_for(const std::string& key) {
   return m;
 }
 
+// Blender's binary itself, through a link in PATH where it can be resolved.
+std::filesystem::path blender_binary(const std::string& blender) {
+  std::error_code ec;
+  const std::filesystem::path real = std::filesystem::canonical(blender, ec);
+  return ec ? std::filesystem::path(blender) : real;
+}
+
 // The cache key of the render `work` holds (every file but Blender's two answers, by
 // name and bytes), the script and Blender's binary: 16 hex digits.
 std::string render_key(const std::filesystem::path& work, const std::string& blender) {
@@ -89,8 +96,7 @@ std::string render_key(const std::filesystem::path& work, const std::string& ble
   }
   add_file(GRAPEBENCH_CYCLES_SCRIPT);
   std::error_code ec;
-  const std::filesystem::path real = std::filesystem::canonical(blender, ec);
-  const std::filesystem::path bin = ec ? std::filesystem::path(blender) : real;
+  const std::filesystem::path bin = blender_binary(blender);
   const auto size = std::filesystem::file_size(bin, ec);
   const auto time = std::filesystem::last_write_time(bin, ec).time_since_epoch().count();
   h = fnv1a(bin.string() + '\0' + std::to_string(size) + '\0' + std::to_string(time), h);
@@ -349,9 +355,9 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   const std::string key = cache.empty() ? std::string() : render_key(work, blender);
   const std::filesystem::path cached_colour = cache / (key + ".colour.f32"), cached_index = cache / (key + ".index.i32");
   const std::shared_ptr<std::mutex> key_lock = cache.empty() ? nullptr : lock_for(key);
-  std::unique_lock<std::mutex> rendering;
-  if (key_lock) rendering = std::unique_lock<std::mutex>(*key_lock);
-  if (!cache.empty() && std::filesystem::exists(cached_colour) && std::filesystem::exists(cached_index)) {
+  const std::unique_lock<std::mutex> rendering =
+      key_lock ? std::unique_lock<std::mutex>(*key_lock) : std::unique_lock<std::mutex>();
+  if (key_lock && std::filesystem::exists(cached_colour) && std::filesystem::exists(cached_index)) {
     try {
       read_answer(cached_colour, cached_index);
       out.cached = true;
@@ -402,9 +408,7 @@ ProgramLimits cycles_program_limits(const CyclesParams& cycles, const std::strin
   ProgramLimits limits;
   limits.sandbox = cycles.sandbox;
   limits.cpu_seconds = cycles.time_limit * (cycles.threads + 1);
-  std::error_code ec;
-  const std::filesystem::path real = std::filesystem::canonical(blender, ec);  // through a link in PATH
-  const std::filesystem::path where = (ec ? std::filesystem::path(blender) : real).parent_path();
+  const std::filesystem::path where = blender_binary(blender).parent_path();
   if (where.string().rfind("/usr/", 0) != 0) limits.harness_readable.push_back(where);  // a release tarball's folder
   limits.harness_readable.emplace_back(GRAPEBENCH_CYCLES_SCRIPT);  // the source tree may lie under --out
   return limits;
