@@ -17,6 +17,7 @@
 #include "bench/coco_rle.h"
 #include "bench/image_truth.h"
 #include "bench/protocols/stereo_pair.h"
+#include "sensors/render/cycles_render.h"
 #include "sensors/render/ray_render.h"
 #include "sensors/scan.h"
 #include "sensors/stereo_rgb.h"
@@ -282,6 +283,7 @@ DatasetSummary write_dataset(const SceneSet& set, const DatasetRunOptions& o) {
       throw InputError(base.path + ": sensor: a dataset needs a colour camera (type stereo_rgb), not " +
                        c.scene.sensor->type());
   }
+  const CyclesCacheScope cache(o.cycles_cache);
   const std::filesystem::path key_file = o.out / "dataset_scene.json";
   const Json key = dataset_key(set);
   std::error_code ec;

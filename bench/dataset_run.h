@@ -25,6 +25,7 @@ struct DatasetRunOptions {
   std::filesystem::path out;  // the dataset's folder: refused when it holds files, unless `resume`
   int threads = 0;            // 0: all cores
   bool resume = false;        // continue a dataset of the same scene: finished cases are kept
+  std::filesystem::path cycles_cache;  // Cycles' images kept and reused here; empty: none
   Verbosity verbosity = Verbosity::normal;
 };
 

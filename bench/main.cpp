@@ -271,6 +271,8 @@ Command run_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   run->add_flag("--no-resume", [o](std::int64_t) { o->run.resume = false; }, "Recompute finished cases too");
   run->add_flag("--reuse-other-builds", o->run.reuse_other_builds,
                 "Also reuse finished cases that another build of grapebench computed (by default they are recomputed)");
+  run->add_option("--cycles-cache", o->run.cycles_cache,
+                  "Keep Cycles' images in this folder and reuse those it holds (`renderer: cycles`); one folder can serve several scenes, `run`, `scan` and `dataset` (default: the scene's run folder's cycles_cache/)");
   run->footer(run_help());
   return {run, [o, g] {
             o->run.verbosity = g->verbosity();
@@ -395,6 +397,8 @@ Command scan_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
       ->check(CLI::Range(0, 1024))->capture_default_str();
   scan->add_option("--bunch", o->scan.only_bunch, "Scan only this bunch index")->check(CLI::Range(0, 100000));
   scan->add_flag("--merged", o->scan.merged, "Also write <stem>_merged.ply: every view's points in the world frame");
+  scan->add_option("--cycles-cache", o->scan.cycles_cache,
+                   "Keep Cycles' images in this folder and reuse those it holds (`renderer: cycles`); one folder can serve several scenes, `run`, `scan` and `dataset`, e.g. a run's results/runs/<scene>/cycles_cache (default: none)");
   scan->footer(sensor_help());
   return {scan, [o, g] {
             o->scan.verbosity = g->verbosity();
@@ -421,6 +425,8 @@ Command dataset_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   cmd->add_option("--threads", o->run.threads, "Worker threads (0 = all cores); the files do not depend on it")
       ->check(CLI::Range(0, 1024))->capture_default_str();
   cmd->add_flag("--resume", o->run.resume, "Continue the dataset in --out (the same scene): finished cases are kept");
+  cmd->add_option("--cycles-cache", o->run.cycles_cache,
+                  "Keep Cycles' images in this folder and reuse those it holds (`renderer: cycles`); one folder can serve several scenes, `run`, `scan` and `dataset` (default: none)");
   std::ostringstream footer;
   footer << "Per image (the colour sensor's left camera), in <out>/{images,depth,instances,semantic}/<split>/:\n"
             "  colour PNG; exact depth as 16-bit PNG (mm) and float TIFF (m), 0 where nothing is hit; instance\n"

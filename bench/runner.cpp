@@ -224,13 +224,9 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   fs::create_directories(o.out / "cases");
   claim_scene_folder(set, o.out);
   hide_from_programs(o.out);  // no program it starts sees the cases and their truth
-  // Cycles' images kept in the run folder: a resumed run, or one with another
-  // estimator, renders none twice (sensors/render/cycles_render.h).
-  struct CacheFor {
-    std::filesystem::path was = cycles_cache();
-    explicit CacheFor(const std::filesystem::path& folder) { set_cycles_cache(folder); }
-    ~CacheFor() { set_cycles_cache(was); }
-  } const cache(o.out / "cycles_cache");
+  // Cycles' images kept in the run folder (or the one given): a resumed run, or one
+  // with another estimator, renders none twice (sensors/render/cycles_render.h).
+  const CyclesCacheScope cache(o.cycles_cache.empty() ? o.out / "cycles_cache" : o.cycles_cache);
   const auto refs = all_cases(set, o.out);
   RunOutcome outcome;
   outcome.cases = static_cast<int>(refs.size());

@@ -20,6 +20,7 @@ struct RunOptions {
   bool resume = true;         // reuse case files whose key matches
   bool reuse_other_builds = false;  // also reuse cases another build (build_identity()) computed
   Verbosity verbosity = Verbosity::normal;  // progress: a bar on a terminal, log lines otherwise
+  std::filesystem::path cycles_cache;  // Cycles' images kept and reused here; empty: out/cycles_cache
   // Called, from the worker that finished it, after each case computed now: cases done
   // so far, cases to compute, "condition c, bunch b", whether it failed (the Python
   // package's progress line). Must be thread-safe.

@@ -1,5 +1,6 @@
 #include "bench/scan_run.h"
 
+#include "sensors/render/cycles_render.h"
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
 #include "synth/io.h"
@@ -21,6 +22,7 @@ std::vector<ScanSummary> run_scans(const Scene& scene, const ScanRunOptions& o) 
   }
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(tbb::info::default_concurrency());
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const CyclesCacheScope cache(o.cycles_cache);
   std::vector<ScanSummary> rows;
   std::vector<BunchJob> jobs;
   for (const auto& job : bunch_jobs(scene)) {

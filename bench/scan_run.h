@@ -15,6 +15,7 @@ struct ScanRunOptions {
   int threads = 0;            // 0: all cores
   int only_bunch = -1;        // scan one bunch of the scene
   bool merged = false;        // also write every view's points in the world frame
+  std::filesystem::path cycles_cache;  // Cycles' images kept and reused here (a run's cycles_cache/); empty: none
   Verbosity verbosity = Verbosity::normal;
 };
 

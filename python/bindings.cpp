@@ -324,13 +324,16 @@ py::dict estimate(const std::string& spec, const py::dict& inputs) {
   return d;
 }
 
+// `cycles_cache`: the folder Cycles' images are kept in; empty: the run folder's.
 // `progress`: None, or called as progress(done, total, detail, failed) after each case,
 // from the worker that finished it (the GIL taken for the call; what it raises is
 // reported as unraisable, the run goes on).
-void run(const SceneSet& set, const std::string& out, int threads, bool quiet, const py::object& progress) {
+void run(const SceneSet& set, const std::string& out, int threads, bool quiet, const py::object& progress,
+         const std::string& cycles_cache) {
   RunOptions o;
   o.out = std::filesystem::path(out) / set.base.name;
   o.threads = threads;
+  o.cycles_cache = cycles_cache;
   o.verbosity = quiet ? Verbosity::quiet : Verbosity::normal;
   if (!progress.is_none()) {
     auto callback = std::shared_ptr<py::object>(new py::object(progress), [](py::object* f) {
@@ -592,5 +595,5 @@ PYBIND11_MODULE(_grapebench, m) {
   m.def("estimator_types", [] { return estimator_registry().types(); });
   m.def("estimate", &estimate, py::arg("spec"), py::arg("inputs"));
   m.def("run", &run, py::arg("scene"), py::arg("out"), py::arg("threads"), py::arg("quiet"),
-        py::arg("progress") = py::none());
+        py::arg("progress") = py::none(), py::arg("cycles_cache") = "");
 }

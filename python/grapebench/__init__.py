@@ -130,20 +130,24 @@ def estimate(type, points=None, **keys):
     return d
 
 
-def run(scene, out=None, threads=0, quiet=True, progress=True):
+def run(scene, out=None, threads=0, quiet=True, progress=True, cycles_cache=None):
     """Run a scene as `grapebench run` does; returns (results, summary): results.csv as a
     pandas DataFrame and summary.json as a dict. out: the results folder (a temporary
     one, removed afterwards, when None); threads 0 uses every core. progress: True for a
     line on stderr updated after each case (in notebooks too), False for none, or a
-    callable progress(done, total, detail, failed) called after each case."""
+    callable progress(done, total, detail, failed) called after each case.
+    cycles_cache: a folder to keep Cycles' images in and reuse (`renderer: cycles`, as
+    `grapebench run --cycles-cache`); None: the results folder's cycles_cache/, so with
+    out=None every run renders them again."""
     import pandas as pd
 
     s = _scene_set(scene)
     if out is None:
         with tempfile.TemporaryDirectory(prefix="grapebench_") as tmp:
-            return run(scene, tmp, threads, quiet, progress)
+            return run(scene, tmp, threads, quiet, progress, cycles_cache)
     callback = _ProgressLine(s.name) if progress is True else progress or None
-    _grapebench.run(s, os.fspath(out), threads, quiet, callback)
+    cache = "" if cycles_cache is None else os.fspath(cycles_cache)
+    _grapebench.run(s, os.fspath(out), threads, quiet, callback, cache)
     if isinstance(callback, _ProgressLine):
         callback.finish()
     folder = Path(out) / s.name

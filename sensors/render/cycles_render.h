@@ -61,6 +61,21 @@ struct CyclesRenderResult {
 void set_cycles_cache(const std::filesystem::path& folder);
 std::filesystem::path cycles_cache();
 
+// The render cache set for a scope (a run, a scan, a dataset) and the one before it
+// restored at its end. One folder can serve several scenes and commands: the key holds
+// everything Blender is given, so a scene that differs in nothing Blender sees (another
+// estimator, the same light in another scene file) reads the same images.
+class CyclesCacheScope {
+ public:
+  explicit CyclesCacheScope(const std::filesystem::path& folder) : was_(cycles_cache()) { set_cycles_cache(folder); }
+  ~CyclesCacheScope() { set_cycles_cache(was_); }
+  CyclesCacheScope(const CyclesCacheScope&) = delete;
+  CyclesCacheScope& operator=(const CyclesCacheScope&) = delete;
+
+ private:
+  std::filesystem::path was_;
+};
+
 // Blender is `blender` from PATH, or $GRAPEBENCH_BLENDER. `work` is a folder for the
 // exported scene and Blender's outputs (created; left in place). Throws InputError when
 // Blender is missing (naming the Debian package) and std::runtime_error when it fails

@@ -18,6 +18,7 @@
 #include "bench/case_result.h"
 #include "bench/check.h"
 #include "bench/runner.h"
+#include "bench/scan_run.h"
 #include "file_text.h"
 #include "scene_error.h"
 
@@ -357,30 +358,18 @@ TEST(Run, InterruptedRunsResumeToTheSameResultsAndThreadsDoNotMatter) {
 // A run keeps Cycles' images in its folder's cycles_cache/ (sensors/render/cycles_render.h):
 // run again from scratch (--no-resume) with a Blender that now crashes, every image is
 // read from there and the results are the first run's. The Blender is a fake writing
-// black images of the right size (the wiring is tested, not Cycles).
+// black images of the right size (the wiring is tested, not Cycles). Then the cache
+// given to another run folder and to a scan (--cycles-cache): read, not rendered.
 TEST(Run, ARunRendersNoCyclesImageTwice) {
   if (std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "bubblewrap cannot make namespaces here (Blender runs under it)";
   const fs::path out = fresh_dir("cycles_cache");
   const fs::path bin = fresh_dir("cycles_cache_bin");
   fs::create_directories(bin);
-  std::ofstream(bin / "blender") << "#!/bin/sh\nd=$(dirname \"$7\")\n"
-                                    "if [ -e \"$(dirname \"$0\")/crash\" ]; then kill -SEGV $$; fi\n"
-                                    "head -c 49152 /dev/zero > \"$d/colour.f32\"; head -c 16384 /dev/zero > \"$d/index.i32\"\n";
+  fs::copy_file(GRAPEBENCH_SOURCE_DIR "/tests/bench/data/fake_blender.sh", bin / "blender");
   fs::permissions(bin / "blender", fs::perms::owner_all);
   setenv("GRAPEBENCH_BLENDER", (bin / "blender").c_str(), 1);
-  const SceneSet set = parse_scene_set(R"(name: cycles_cache
-seed: 1001
-protocol: stereo_pair
-bunches:
-  - preset: summer-black
-    count: 1
-sensor: {type: stereo_rgb, width: 64, height: 64, renderer: cycles, light: front, cycles: {leaf_texels: 16}}
-foliage: {}
-rig: {type: stereo_stations, distances: [0.45]}
-estimators:
-  - {type: luo2016_stereo, name: luo_eq6}
-)", "cycles_cache.yaml");
+  const SceneSet set = load_scene_set(GRAPEBENCH_SOURCE_DIR "/tests/bench/data/cycles_pair_tiny.yaml");
   EXPECT_EQ(run_scene_set(set, quiet(out)).computed, 1);
   const std::string first = slurp(out / "results.csv");
   EXPECT_EQ(std::distance(fs::directory_iterator(out / "cycles_cache"), fs::directory_iterator()), 4);  // a pair, 2 files an image
@@ -390,6 +379,22 @@ estimators:
   EXPECT_EQ(run_scene_set(set, again).computed, 1);
   EXPECT_EQ(slurp(out / "results.csv"), first);
   EXPECT_EQ(first.find("Blender"), std::string::npos) << first;
+  // One cache serves another run folder and a scan of the same scene (--cycles-cache):
+  // the key is what Blender is given, not where the images go. Without it the scan
+  // needs Blender, which crashes.
+  const fs::path other = fresh_dir("cycles_cache_other");
+  RunOptions shared = quiet(other);
+  shared.cycles_cache = out / "cycles_cache";
+  EXPECT_EQ(run_scene_set(set, shared).computed, 1);
+  EXPECT_EQ(slurp(other / "results.csv"), first);
+  EXPECT_FALSE(fs::exists(other / "cycles_cache"));
+  ScanRunOptions scan;
+  scan.out = fresh_dir("cycles_cache_scan");
+  scan.verbosity = Verbosity::quiet;
+  EXPECT_THROW(run_scans(set.conditions.at(0).scene, scan), std::exception);
+  scan.cycles_cache = out / "cycles_cache";
+  EXPECT_NO_THROW(run_scans(set.conditions.at(0).scene, scan));
+  EXPECT_EQ(std::distance(fs::directory_iterator(out / "cycles_cache"), fs::directory_iterator()), 4);
   unsetenv("GRAPEBENCH_BLENDER");
 }
 

@@ -4,6 +4,7 @@ PYTHONPATH=<build>/python and GRAPEBENCH=<the grapebench executable>."""
 import json
 import math
 import re
+import shutil
 import os
 import subprocess
 import sys
@@ -20,6 +21,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 EXE = os.environ.get("GRAPEBENCH", str(ROOT / "build" / "bench" / "grapebench"))
 TWO = ROOT / "tests" / "bench" / "data" / "two_bunches_hull.yaml"
+TINY_CYCLES = ROOT / "tests" / "bench" / "data" / "cycles_pair_tiny.yaml"
 
 
 def fibonacci_sphere(n, r):
@@ -102,6 +104,25 @@ def test_run_returns_the_command_lines_results(tmp_path):
     cols = ["bunch", "estimator", "quantity", "estimate", "truth"]
     pd.testing.assert_frame_equal(results[cols], cli[cols])
     assert summary["scene"] == "two_bunches_hull" and summary["cases"] == 2, summary["scene"]
+
+
+def test_run_keeps_cycles_images_in_the_folder_given(tmp_path, monkeypatch):
+    # out=None throws the run folder away; cycles_cache keeps the images across runs.
+    # A fake Blender answers black images, then crashes: the second run reads the first's.
+    if subprocess.run(["bwrap", "--ro-bind", "/", "/", "--dev", "/dev", "--proc", "/proc", "--unshare-all", "true"],
+                      capture_output=True).returncode != 0:
+        pytest.skip("bubblewrap cannot make namespaces here (Blender runs under it)")
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    shutil.copy(ROOT / "tests" / "bench" / "data" / "fake_blender.sh", bin_dir / "blender")
+    (bin_dir / "blender").chmod(0o700)
+    monkeypatch.setenv("GRAPEBENCH_BLENDER", str(bin_dir / "blender"))
+    first, _ = gb.run(TINY_CYCLES, threads=1, progress=False, cycles_cache=tmp_path / "cache")
+    assert len(list((tmp_path / "cache").iterdir())) == 4  # a pair, 2 files an image
+    (bin_dir / "crash").touch()
+    again, _ = gb.run(TINY_CYCLES, threads=1, progress=False, cycles_cache=tmp_path / "cache")
+    pd.testing.assert_frame_equal(first, again)
+    assert not first["error"].fillna("").str.contains("Blender").any()
 
 
 def test_the_interpreter_runs_while_an_estimator_does():
