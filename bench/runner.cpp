@@ -29,6 +29,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -225,8 +226,18 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   claim_scene_folder(set, o.out);
   hide_from_programs(o.out);  // no program it starts sees the cases and their truth
   // Cycles' images kept in the run folder (or the one given): a resumed run, or one
-  // with another estimator, renders none twice (sensors/render/cycles_render.h).
-  const CyclesCacheScope cache(o.cycles_cache.empty() ? o.out / "cycles_cache" : o.cycles_cache);
+  // with another estimator, renders none twice (sensors/render/cycles_render.h). Their
+  // object-index images are per-berry truth: hidden from programs like the run folder.
+  std::optional<CyclesCacheScope> cache;
+  const bool cycles = std::any_of(set.conditions.begin(), set.conditions.end(), [](const auto& c) {
+    return c.scene.sensor && c.scene.sensor->describe().value("renderer", std::string()) == "cycles";
+  });
+  if (cycles) {
+    const fs::path folder = o.cycles_cache.empty() ? o.out / "cycles_cache" : o.cycles_cache;
+    fs::create_directories(folder);
+    hide_from_programs(folder);
+    cache.emplace(folder);
+  }
   const auto refs = all_cases(set, o.out);
   RunOutcome outcome;
   outcome.cases = static_cast<int>(refs.size());

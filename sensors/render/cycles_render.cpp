@@ -54,6 +54,8 @@ std::vector<T> read_raw(const std::filesystem::path& path, std::size_t count) {
 
 std::mutex cache_mutex;
 std::filesystem::path cache_folder;
+int cache_scopes = 0;                 // CyclesCacheScopes alive
+std::filesystem::path before_scopes;  // the folder before the first of them
 std::map<std::string, std::weak_ptr<std::mutex>> key_locks;  // renders under way, by key
 
 // Held while an entry is looked up, rendered and stored: two cases rendering the same
@@ -397,6 +399,26 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
 void set_cycles_cache(const std::filesystem::path& folder) {
   const std::lock_guard<std::mutex> lock(cache_mutex);
   cache_folder = folder;
+}
+
+CyclesCacheScope::CyclesCacheScope(const std::filesystem::path& folder) {
+  if (folder.empty()) return;
+  const std::lock_guard<std::mutex> lock(cache_mutex);
+  if (cache_scopes > 0 && cache_folder != folder)
+    throw InputError("cycles cache: " + folder.string() + " asked for while another run in this process keeps "
+                     "Cycles' images in " + cache_folder.string() +
+                     "; give both the same cycles_cache, or run them one after the other");
+  if (cache_scopes++ == 0) {
+    before_scopes = cache_folder;
+    cache_folder = folder;
+  }
+  joined_ = true;
+}
+
+CyclesCacheScope::~CyclesCacheScope() {
+  if (!joined_) return;
+  const std::lock_guard<std::mutex> lock(cache_mutex);
+  if (--cache_scopes == 0) cache_folder = before_scopes;
 }
 
 std::filesystem::path cycles_cache() {

@@ -53,7 +53,7 @@ struct CyclesRenderResult {
 // the folder after changing those. A hit reads the bytes Blender wrote for the same
 // input, so the image is the one a new render gives (Cycles is seeded), and skips
 // `time_limit`. Empty (the default): no cache. `grapebench run` sets it to the run
-// folder's cycles_cache/, so a run that stopped, or a scene given another estimator,
+// folder's cycles_cache/ (or its --cycles-cache, which `scan` and `dataset` take too), so a run that stopped, or a scene given another estimator,
 // renders no image twice (an image takes 30-130 s); two cases of one run needing the
 // same image at once render it once. An entry of the wrong size or holding a value
 // that is not a radiance is rendered again and replaced; entries are written whole
@@ -61,19 +61,22 @@ struct CyclesRenderResult {
 void set_cycles_cache(const std::filesystem::path& folder);
 std::filesystem::path cycles_cache();
 
-// The render cache set for a scope (a run, a scan, a dataset) and the one before it
-// restored at its end. One folder can serve several scenes and commands: the key holds
-// everything Blender is given, so a scene that differs in nothing Blender sees (another
-// estimator, the same light in another scene file) reads the same images.
+// The render cache for a scope (a run, a scan, a dataset); empty: the cache left as it
+// is. Scopes share the process's one folder: while one lives, another naming a
+// different folder (two runs in threads of one Python process) throws InputError, one
+// naming the same folder joins it, and when the last ends the folder before the first
+// is back. One folder can serve several scenes and commands: the key holds everything
+// Blender is given, so a scene that differs in nothing Blender sees (another estimator,
+// the same condition in another file) reads the same images.
 class CyclesCacheScope {
  public:
-  explicit CyclesCacheScope(const std::filesystem::path& folder) : was_(cycles_cache()) { set_cycles_cache(folder); }
-  ~CyclesCacheScope() { set_cycles_cache(was_); }
+  explicit CyclesCacheScope(const std::filesystem::path& folder);
+  ~CyclesCacheScope();
   CyclesCacheScope(const CyclesCacheScope&) = delete;
   CyclesCacheScope& operator=(const CyclesCacheScope&) = delete;
 
  private:
-  std::filesystem::path was_;
+  bool joined_ = false;
 };
 
 // Blender is `blender` from PATH, or $GRAPEBENCH_BLENDER. `work` is a folder for the

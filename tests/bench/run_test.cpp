@@ -19,6 +19,8 @@
 #include "bench/check.h"
 #include "bench/runner.h"
 #include "bench/scan_run.h"
+#include "sensors/render/cycles_render.h"
+#include "synth/confined_program.h"
 #include "file_text.h"
 #include "scene_error.h"
 
@@ -382,19 +384,35 @@ TEST(Run, ARunRendersNoCyclesImageTwice) {
   // One cache serves another run folder and a scan of the same scene (--cycles-cache):
   // the key is what Blender is given, not where the images go. Without it the scan
   // needs Blender, which crashes.
-  const fs::path other = fresh_dir("cycles_cache_other");
-  RunOptions shared = quiet(other);
-  shared.cycles_cache = out / "cycles_cache";
-  EXPECT_EQ(run_scene_set(set, shared).computed, 1);
+  const fs::path other = fresh_dir("cycles_cache_other"), shared = fresh_dir("cycles_cache_shared");
+  fs::copy(out / "cycles_cache", shared);
+  RunOptions elsewhere = quiet(other);
+  elsewhere.cycles_cache = shared;
+  EXPECT_EQ(run_scene_set(set, elsewhere).computed, 1);
   EXPECT_EQ(slurp(other / "results.csv"), first);
   EXPECT_FALSE(fs::exists(other / "cycles_cache"));
+  EXPECT_TRUE(cycles_cache().empty());  // the folder before the run is back
+  // Its object-index images are per-berry truth: hidden from programs as the run folder
+  // is, so no program's `readable` may show it (review of 3ac22e2: a folder outside
+  // --out was not).
+  const fs::path peek = fresh_dir("cycles_cache_peek");
+  fs::create_directories(peek);
+  try {
+    ProgramLimits limits;
+    limits.readable = {shared};
+    ConfinedProgram ls({"/bin/ls", "-R", "/tmp"}, peek, limits);
+    ls.wait(ConfinedProgram::Clock::now() + std::chrono::seconds(30));
+    ADD_FAILURE() << "a program was shown the shared cache";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("no program may see"), std::string::npos) << e.what();
+  }
   ScanRunOptions scan;
   scan.out = fresh_dir("cycles_cache_scan");
   scan.verbosity = Verbosity::quiet;
   EXPECT_THROW(run_scans(set.conditions.at(0).scene, scan), std::exception);
-  scan.cycles_cache = out / "cycles_cache";
+  scan.cycles_cache = shared;
   EXPECT_NO_THROW(run_scans(set.conditions.at(0).scene, scan));
-  EXPECT_EQ(std::distance(fs::directory_iterator(out / "cycles_cache"), fs::directory_iterator()), 4);
+  EXPECT_EQ(std::distance(fs::directory_iterator(shared), fs::directory_iterator()), 4);
   unsetenv("GRAPEBENCH_BLENDER");
 }
 

@@ -210,6 +210,29 @@ TEST(CyclesRender, TheCacheAnswersTheSameInputWithoutBlenderAndNoOtherInput) {
 
 bool have_blender() { return !find_program("blender").empty(); }
 
+// The cache is one folder a process (review of 3ac22e2: two runs in threads of one
+// Python process each set it and restored the other's, leaving a stale folder behind).
+// Scopes of one folder join; another folder while they live is refused; when the last
+// ends the folder before them is back, and an empty scope changes nothing.
+TEST(CyclesRender, CacheScopesShareOneFolderAndRestoreTheOneBefore) {
+  set_cycles_cache("/tmp/before");
+  {
+    const CyclesCacheScope a("/tmp/a");
+    EXPECT_THROW(CyclesCacheScope("/tmp/b"), InputError);
+    {
+      const CyclesCacheScope joined("/tmp/a"), none("");
+      EXPECT_EQ(cycles_cache(), "/tmp/a");
+    }
+    EXPECT_EQ(cycles_cache(), "/tmp/a");  // `a` still lives
+  }
+  EXPECT_EQ(cycles_cache(), "/tmp/before");
+  {
+    const CyclesCacheScope b("/tmp/b");  // free again
+    EXPECT_EQ(cycles_cache(), "/tmp/b");
+  }
+  set_cycles_cache({});
+}
+
 // Cycles' object-index pass (one sample at each pixel's centre) against the exact
 // labels, per class; and the colour image the same at 1 and 2 threads.
 TEST(CyclesRender, TheIndexPassAgreesWithTheExactLabelsAndThreadsDoNotMatter) {
