@@ -88,6 +88,12 @@ nlohmann::json read_json(const std::filesystem::path& f, const std::string& what
   }
 }
 
+// `--cycles-cache`'s help, one text for run, scan and dataset; only the default differs.
+std::string cycles_cache_help(const std::string& default_text) {
+  return "Keep Cycles' images in this folder and reuse those it holds (`renderer: cycles`); one folder can serve "
+         "several scenes, `run`, `scan` and `dataset` (default: " + default_text + ")";
+}
+
 std::string run_help() {
   const PipelineSpec defaults;  // a named object: GCC 12 warns (falsely) of a temporary's string here
   std::ostringstream s;
@@ -272,7 +278,7 @@ Command run_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   run->add_flag("--reuse-other-builds", o->run.reuse_other_builds,
                 "Also reuse finished cases that another build of grapebench computed (by default they are recomputed)");
   run->add_option("--cycles-cache", o->run.cycles_cache,
-                  "Keep Cycles' images in this folder and reuse those it holds (`renderer: cycles`); one folder can serve several scenes, `run`, `scan` and `dataset` (default: the scene's run folder's cycles_cache/)");
+                  cycles_cache_help("the scene's run folder's cycles_cache/"));
   run->footer(run_help());
   return {run, [o, g] {
             o->run.verbosity = g->verbosity();
@@ -398,7 +404,7 @@ Command scan_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
   scan->add_option("--bunch", o->scan.only_bunch, "Scan only this bunch index")->check(CLI::Range(0, 100000));
   scan->add_flag("--merged", o->scan.merged, "Also write <stem>_merged.ply: every view's points in the world frame");
   scan->add_option("--cycles-cache", o->scan.cycles_cache,
-                   "Keep Cycles' images in this folder and reuse those it holds (`renderer: cycles`); one folder can serve several scenes, `run`, `scan` and `dataset`, e.g. a run's results/runs/<scene>/cycles_cache (default: none)");
+                   cycles_cache_help("none; e.g. a run's results/runs/<scene>/cycles_cache"));
   scan->footer(sensor_help());
   return {scan, [o, g] {
             o->scan.verbosity = g->verbosity();
@@ -426,7 +432,7 @@ Command dataset_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
       ->check(CLI::Range(0, 1024))->capture_default_str();
   cmd->add_flag("--resume", o->run.resume, "Continue the dataset in --out (the same scene): finished cases are kept");
   cmd->add_option("--cycles-cache", o->run.cycles_cache,
-                  "Keep Cycles' images in this folder and reuse those it holds (`renderer: cycles`); one folder can serve several scenes, `run`, `scan` and `dataset` (default: none)");
+                  cycles_cache_help("none"));
   std::ostringstream footer;
   footer << "Per image (the colour sensor's left camera), in <out>/{images,depth,instances,semantic}/<split>/:\n"
             "  colour PNG; exact depth as 16-bit PNG (mm) and float TIFF (m), 0 where nothing is hit; instance\n"
