@@ -219,6 +219,7 @@ nlohmann::ordered_json case_to_json(const CaseResult& c) {
   if (!c.matched_fraction.empty()) j["matched_fraction"] = c.matched_fraction;
   if (std::isfinite(c.disparity_locking)) j["disparity_locking"] = c.disparity_locking;
   if (!c.disparity_bias.empty()) j["disparity_bias"] = c.disparity_bias;
+  if (!c.pixel_noise_dn.empty()) j["pixel_noise_dn"] = c.pixel_noise_dn;  // NaN written as null
   if (c.views_registered >= 0) j["views_registered"] = c.views_registered;
   if (!c.confusion.empty()) {
     nlohmann::ordered_json conf = nlohmann::ordered_json::array();
@@ -349,6 +350,15 @@ CaseResult case_from_json(const nlohmann::json& j) {
       const double v = r.is_null() ? std::numeric_limits<double>::quiet_NaN() : r.get<double>();
       if (!(std::isnan(v) || (v >= -1 && v <= 1))) throw std::runtime_error("disparity_error_correlation: outside [-1, 1]");
       c.disparity_error_correlation.push_back(v);
+    }
+  }
+  if (j.contains("pixel_noise_dn")) {
+    const auto& v = j.at("pixel_noise_dn");
+    if (!v.is_array() || v.size() != 9) throw std::runtime_error("pixel_noise_dn: not 9 values (3 classes x R, G, B)");
+    for (const auto& x : v) {
+      const double d = x.is_null() ? std::numeric_limits<double>::quiet_NaN() : x.get<double>();
+      if (!(std::isnan(d) || (d >= 0 && d <= 255))) throw std::runtime_error("pixel_noise_dn: outside [0, 255]");
+      c.pixel_noise_dn.push_back(d);
     }
   }
   if (j.contains("views_registered")) c.views_registered = j.at("views_registered").get<int>();

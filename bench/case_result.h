@@ -118,6 +118,11 @@ struct CaseResult {
   // e = -A sin(2 pi delta) of the matches within 1 px, delta the true disparity's
   // fractional part (the noise model's pixel_locking_px); NaN otherwise.
   double disparity_locking = std::numeric_limits<double>::quiet_NaN();
+  // classification, sgbm: the left images' pixel noise per plant class (berry, branch,
+  // leaf) and channel (R, G, B), 9 values, DN: the sd about the 3 x 3 median over the
+  // class's inner pixels, pooled over the views (bench/scoring/images.h); NaN where a
+  // class has no inner pixel; empty otherwise.
+  std::vector<double> pixel_noise_dn;
   // classification, sgbm: per plant class, the mean signed disparity error (px,
   // estimated minus true: > 0 nearer) of the matches within 3 px; empty otherwise.
   std::vector<double> disparity_bias;

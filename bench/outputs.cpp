@@ -141,6 +141,13 @@ nlohmann::ordered_json summary_json(const SceneSet& set, const std::vector<CaseR
         for (std::size_t k = 0; k < c.disparity_bias.size() && k < plant_classes().size(); ++k)
           bias[plant_classes()[k]] = jnum(c.disparity_bias[k]);
         rec.back()["disparity_bias"] = bias;
+        if (c.pixel_noise_dn.size() == 3 * plant_classes().size()) {
+          nlohmann::ordered_json noise = nlohmann::ordered_json::object();
+          for (std::size_t k = 0; k < plant_classes().size(); ++k)
+            noise[plant_classes()[k]] = {jnum(c.pixel_noise_dn[3 * k]), jnum(c.pixel_noise_dn[3 * k + 1]),
+                                         jnum(c.pixel_noise_dn[3 * k + 2])};
+          rec.back()["pixel_noise_dn"] = noise;
+        }
       }
     }
     j["reconstruction"] = rec;

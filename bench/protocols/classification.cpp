@@ -9,6 +9,7 @@
 #include "bench/protocols/capture.h"
 #include "bench/protocols/stereo_pair.h"
 #include "bench/scoring/classes.h"
+#include "bench/scoring/images.h"
 #include "bench/scoring/statistics.h"
 #include "sensors/mvs_reconstruction.h"
 #include "synth/generate.h"
@@ -249,8 +250,10 @@ std::vector<Eigen::Isometry3d> perturbed_poses(const PipelineSpec& pl, const Sca
 
 // SGBM's errors against the exact depths of the pixels it matched, over the views:
 // spread and outliers (the noise model's sigma_d and mismatches), how they correlate
-// along rows, the fattening behind depth edges, and each plant class's coverage.
+// along rows, the fattening behind depth edges, and each plant class's coverage; and
+// the left images' pixel noise per plant class (what SGBM matched through).
 struct SgbmErrors {
+  PixelNoise noise;
   std::vector<double> abs_error;  // px of disparity, per matched pixel with a true depth
   LagCorrelation correlation{{1, 2, 4, 8}};
   long behind_edges = 0, fattened = 0;  // matched pixels just behind an edge; of them, off > 3 px toward the camera
@@ -259,7 +262,12 @@ struct SgbmErrors {
   std::array<double, 3> bias_sum{}, bias_count{};  // per plant class, matches within 3 px
 
   // fb: focal length (px) x baseline (m); block: SGBM's block size (px).
-  void add_view(const OrganisedCloud& cloud, const SgbmCloud& c, double fb, int block) {
+  void add_view(const OrganisedCloud& cloud, const RgbImage& left, const SgbmCloud& c, double fb, int block) {
+    if (static_cast<std::size_t>(left.width) * left.height == cloud.size()) {
+      std::vector<int> cls(cloud.size());
+      for (std::size_t px = 0; px < cloud.size(); ++px) cls[px] = plant_class(static_cast<Part>(cloud.label[px]));
+      noise.add(pixel_noise(left.data, cls, left.width, left.height, 3));
+    }
     std::vector<float> signed_error(cloud.size(), std::numeric_limits<float>::quiet_NaN());  // px, matches within 3 px
     // Pixels up to half a block behind a surface >= 3 % nearer: where fattening strikes.
     const std::vector<float> nearer = nearest_depth_within(cloud, block / 2);
@@ -301,6 +309,8 @@ struct SgbmErrors {
     for (std::size_t k = 0; k < 3; ++k) r.matched_fraction.push_back(seen[k] > 0 ? matched[k] / seen[k] : 0);
     if (lock_ss > 0) r.disparity_locking = lock_es / lock_ss;
     for (std::size_t k = 0; k < 3; ++k) r.disparity_bias.push_back(bias_count[k] > 0 ? bias_sum[k] / bias_count[k] : 0);
+    for (std::size_t k = 0; k < 3; ++k)
+      for (const double sd : noise.sd(k)) r.pixel_noise_dn.push_back(sd);
   }
 };
 
@@ -339,7 +349,7 @@ FusedCloud reconstruct(const PipelineSpec& pl, const Scan& scan, std::uint64_t s
       returns.push_back({poses[k] * Vec3(c.points.row(i).transpose()), c.colours[static_cast<std::size_t>(i)],
                          part, static_cast<int>(k), 0.0});
     }
-    errors.add_view(view.cloud, c, in.stereo->fx * in.stereo->baseline, pl.sgbm.block_size);
+    errors.add_view(view.cloud, in.stereo->left, c, in.stereo->fx * in.stereo->baseline, pl.sgbm.block_size);
   }
   errors.write(r);
   return fuse_returns(returns, pl.fusion);

@@ -2,7 +2,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace grapebench {
@@ -87,6 +89,62 @@ double luminance_ssim(const std::vector<std::uint8_t>& a, const std::vector<std:
   cv::Mat map;
   cv::divide(num, den, map);
   return cv::mean(map)[0];
+}
+
+void PixelNoise::add(const PixelNoise& other) {
+  if (pixels.size() < other.pixels.size()) {
+    pixels.resize(other.pixels.size()), sum.resize(other.pixels.size()), sum_sq.resize(other.pixels.size());
+  }
+  for (std::size_t k = 0; k < other.pixels.size(); ++k) {
+    pixels[k] += other.pixels[k];
+    for (int ch = 0; ch < 3; ++ch) sum[k][ch] += other.sum[k][ch], sum_sq[k][ch] += other.sum_sq[k][ch];
+  }
+}
+
+std::array<double, 3> PixelNoise::sd(std::size_t cls) const {
+  std::array<double, 3> out;
+  out.fill(std::numeric_limits<double>::quiet_NaN());
+  if (cls >= pixels.size() || pixels[cls] == 0) return out;
+  const double n = static_cast<double>(pixels[cls]);
+  for (int ch = 0; ch < 3; ++ch) {
+    const double mean = static_cast<double>(sum[cls][ch]) / n;
+    out[ch] = std::sqrt(std::max(0.0, static_cast<double>(sum_sq[cls][ch]) / n - mean * mean));
+  }
+  return out;
+}
+
+PixelNoise pixel_noise(const std::vector<std::uint8_t>& rgb, const std::vector<int>& cls, int width, int height,
+                       int classes) {
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  if (width < 1 || height < 1 || rgb.size() != 3 * n || cls.size() != n || classes < 0)
+    throw std::invalid_argument("pixel_noise: the image is not W x H x 3 or the classes not W x H");
+  for (const int c : cls)
+    if (c < -1 || c >= classes) throw std::invalid_argument("pixel_noise: a class outside [-1, classes)");
+  PixelNoise out;
+  out.pixels.assign(static_cast<std::size_t>(classes), 0);
+  out.sum.assign(static_cast<std::size_t>(classes), {0, 0, 0});
+  out.sum_sq = out.sum;
+  const cv::Mat image(height, width, CV_8UC3, const_cast<std::uint8_t*>(rgb.data()));
+  cv::Mat median;
+  cv::medianBlur(image, median, 3);
+  for (int y = 1; y + 1 < height; ++y)
+    for (int x = 1; x + 1 < width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * width + x;
+      const int c = cls[i];
+      if (c < 0) continue;
+      bool inner = true;
+      for (int dy = -1; dy <= 1 && inner; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (cls[i + static_cast<std::ptrdiff_t>(dy) * width + dx] != c) inner = false;
+      if (!inner) continue;
+      const auto k = static_cast<std::size_t>(c);
+      out.pixels[k] += 1;
+      for (int ch = 0; ch < 3; ++ch) {
+        const long long r = static_cast<long long>(rgb[3 * i + ch]) - median.data[3 * i + ch];
+        out.sum[k][ch] += r, out.sum_sq[k][ch] += r * r;
+      }
+    }
+  return out;
 }
 
 }  // namespace grapebench

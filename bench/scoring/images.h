@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -25,5 +26,22 @@ double ciede2000(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2);
 // sigma 1.5, K1 0.01, K2 0.03, L 255) of the Rec. 709 luma of two 8-bit sRGB images
 // (H x W x 3, top row first). Throws std::invalid_argument on a size mismatch.
 double luminance_ssim(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int width, int height);
+
+// An 8-bit RGB image's pixel noise per class: each channel's residual about its 3 x 3
+// median (DN), over the pixels whose whole 3 x 3 neighbourhood is of that class (so
+// edges and other classes do not count; the image's border rows and columns neither).
+// Sums, so that views pool by add(); sd() is the population standard deviation (the
+// measure of scripts/pixel_noise.py, docs/seed004.md "Against Cycles").
+struct PixelNoise {
+  std::vector<long long> pixels;                  // per class
+  std::vector<std::array<long long, 3>> sum, sum_sq;  // per class, R, G, B residuals (DN, DN^2)
+
+  void add(const PixelNoise& other);
+  std::array<double, 3> sd(std::size_t cls) const;  // DN, R G B; NaN without pixels
+};
+// rgb: H x W x 3, top row first; cls: H x W, the class of each pixel in [0, classes)
+// or -1 for none. Throws std::invalid_argument on a size mismatch or a class outside.
+PixelNoise pixel_noise(const std::vector<std::uint8_t>& rgb, const std::vector<int>& cls, int width, int height,
+                       int classes);
 
 }  // namespace grapebench

@@ -439,6 +439,26 @@ TEST(Run, ACaseWithAFailedRowsNanEstimateReadsBack) {
   EXPECT_THROW(case_from_json(nlohmann::json::parse(case_to_json(c).dump())), std::exception);
 }
 
+// The pixel noise a case keeps: NaN (a class without inner pixels) written as null and
+// read back; a case file with a value outside [0, 255] or of the wrong size refused.
+TEST(Run, ACasesPixelNoiseReadsBackAndABadOneIsRefused) {
+  CaseResult c;
+  c.key = "k";
+  c.pixel_noise_dn = {2.5, 2.9, 2.4, std::nan(""), std::nan(""), std::nan(""), 2.0, 2.1, 2.0};
+  const nlohmann::json file = nlohmann::json::parse(case_to_json(c).dump());
+  ASSERT_TRUE(file.at("pixel_noise_dn").at(3).is_null());
+  const CaseResult back = case_from_json(file);
+  ASSERT_EQ(back.pixel_noise_dn.size(), 9u);
+  EXPECT_DOUBLE_EQ(back.pixel_noise_dn[1], 2.9);
+  EXPECT_TRUE(std::isnan(back.pixel_noise_dn[4]));
+  nlohmann::json bad = file;
+  bad["pixel_noise_dn"][0] = -1.0;
+  EXPECT_THROW(case_from_json(bad), std::exception);
+  bad = file;
+  bad["pixel_noise_dn"].erase(8);
+  EXPECT_THROW(case_from_json(bad), std::exception);
+}
+
 TEST(Run, TwoShardsMergedEqualTheUnshardedRun) {
   const SceneSet set = parse_scene_set(kScene, "tiny.yaml");
   const fs::path whole = fresh_dir("unsharded"), s0 = fresh_dir("shard0"), s1 = fresh_dir("shard1"),
@@ -990,6 +1010,14 @@ estimators:
     EXPECT_LE(rec["matched_fraction"][cls].get<double>(), 1.0) << cls;
     EXPECT_LT(std::abs(rec["disparity_bias"][cls].get<double>()), 1.0) << cls;
   }
+  // The left images' pixel noise per class: OpenGL's noise of sd 2 DN read back about
+  // the 3 x 3 median (2.0 on the flat leaves and stems, 2.4-2.9 on the shaded berries).
+  for (const char* cls : {"berry", "branch", "leaf"}) {
+    const auto spread = rec["pixel_noise_dn"][cls].get<std::vector<double>>();
+    ASSERT_EQ(spread.size(), 3u) << cls;
+    for (const double v : spread) EXPECT_GT(v, 1.5) << cls;
+    for (const double v : spread) EXPECT_LT(v, 3.5) << cls;
+  }
   // Sub-pixel disparities drawn toward whole pixels, as on the rendered slanted plane.
   EXPECT_GT(rec["disparity_locking"].get<double>(), 0.03);
   EXPECT_LT(rec["disparity_locking"].get<double>(), 0.3);
@@ -998,6 +1026,7 @@ estimators:
   EXPECT_EQ(c["disparity_error_correlation"].size(), 4u);
   EXPECT_EQ(c["matched_fraction"].size(), 3u);
   EXPECT_EQ(c["disparity_bias"].size(), 3u);
+  EXPECT_EQ(c["pixel_noise_dn"].size(), 9u);
   EXPECT_DOUBLE_EQ(c["disparity_locking"].get<double>(), rec["disparity_locking"].get<double>());
 }
 
