@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   app.add_option("--trellis", trellis, "the wires and posts in the views (0: the set before them)");
   std::vector<int> only;
   app.add_option("--only", only, "these views (0-26) instead")->check(CLI::Range(0, 26));
-  std::vector<int> sky_filters = {1};
+  std::vector<int> sky_filters = {PhotoCameraParams{}.sky_filter};
   app.add_option("--sky-filter", sky_filters,
                  "ray's camera: sky_filter, one or more (each against the same Cycles image; the panels show the first)")
       ->check(CLI::Range(1, 4));
