@@ -263,11 +263,10 @@ struct SgbmErrors {
 
   // fb: focal length (px) x baseline (m); block: SGBM's block size (px).
   void add_view(const OrganisedCloud& cloud, const RgbImage& left, const SgbmCloud& c, double fb, int block) {
-    if (static_cast<std::size_t>(left.width) * left.height == cloud.size()) {
-      std::vector<int> cls(cloud.size());
-      for (std::size_t px = 0; px < cloud.size(); ++px) cls[px] = plant_class(static_cast<Part>(cloud.label[px]));
+    std::vector<int> cls(cloud.size());  // each pixel's plant class, -1 none
+    for (std::size_t px = 0; px < cloud.size(); ++px) cls[px] = plant_class(static_cast<Part>(cloud.label[px]));
+    if (static_cast<std::size_t>(left.width) * left.height == cloud.size())
       noise.add(pixel_noise(left.data, cls, left.width, left.height, 3));
-    }
     std::vector<float> signed_error(cloud.size(), std::numeric_limits<float>::quiet_NaN());  // px, matches within 3 px
     // Pixels up to half a block behind a surface >= 3 % nearer: where fattening strikes.
     const std::vector<float> nearer = nearest_depth_within(cloud, block / 2);
@@ -281,8 +280,8 @@ struct SgbmErrors {
       const double e = fb / z - fb / truth;  // estimated minus true disparity
       if (std::abs(e) <= 3) {
         signed_error[pixel] = static_cast<float>(e);
-        const int cls = plant_class(static_cast<Part>(cloud.label[pixel]));
-        if (cls >= 0) bias_sum[static_cast<std::size_t>(cls)] += e, bias_count[static_cast<std::size_t>(cls)] += 1;
+        if (const int k = cls[pixel]; k >= 0)
+          bias_sum[static_cast<std::size_t>(k)] += e, bias_count[static_cast<std::size_t>(k)] += 1;
       }
       if (std::abs(e) <= 1) {
         const double d = fb / truth, s = -std::sin(2 * M_PI * (d - std::floor(d)));
@@ -291,10 +290,8 @@ struct SgbmErrors {
       if (!nearer.empty() && nearer[pixel] < kBehindEdgeDepthRatio * truth) ++behind_edges, fattened += e > 3;
     }
     correlation.add(signed_error, cloud.width, cloud.height);
-    for (std::size_t px = 0; px < cloud.size(); ++px) {
-      const int cls = plant_class(static_cast<Part>(cloud.label[px]));
-      if (cls >= 0) seen[static_cast<std::size_t>(cls)] += 1, matched[static_cast<std::size_t>(cls)] += has_match[px];
-    }
+    for (std::size_t px = 0; px < cloud.size(); ++px)
+      if (cls[px] >= 0) seen[static_cast<std::size_t>(cls[px])] += 1, matched[static_cast<std::size_t>(cls[px])] += has_match[px];
   }
 
   void write(CaseResult& r) {
