@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "algorithms/estimate.h"
-#include "algorithms/filters.h"
+#include "algorithms/cloud/filters.h"
 #include "algorithms/point_cloud.h"
 #include "synth/registry.h"
 

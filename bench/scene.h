@@ -7,14 +7,14 @@
 #include <string>
 #include <vector>
 
-#include "algorithms/registration.h"
+#include "algorithms/cloud/registration.h"
 #include "algorithms/registry.h"
-#include "algorithms/seed003_roi.h"
+#include "algorithms/segmentation/seed003_roi.h"
 #include "bench/protocols/registration_methods.h"
 #include "sensors/rig.h"
 #include "sensors/sensor_registry.h"
-#include "algorithms/colmap_sfm.h"
-#include "algorithms/sgbm_reconstruction.h"
+#include "algorithms/stereo/colmap_sfm.h"
+#include "algorithms/stereo/sgbm_reconstruction.h"
 #include "sensors/mvs_reconstruction.h"
 #include "synth/foliage.h"
 #include "synth/vine_row.h"

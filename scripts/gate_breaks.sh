@@ -10,10 +10,10 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 dir="${GRAPEBENCH_BREAKS_DIR:-$here/build/breaks}"
 # name | gate | file | sed expression (one line changed) | what it breaks
 breaks=(
-  "cut_point_6px|seed001_gate|algorithms/cutting_point_detection.cpp|s/d.y = 0.5 \* (best.y1 + best.y2);/d.y = 0.5 * (best.y1 + best.y2) + 6;/|seed 001: the cutting point 6 px below the stalk line's midpoint"
-  "perimeter_5pct|seed002_gate|algorithms/section_perimeters.cpp|s/s.perimeter(k) = spline_length(closed_hobby_spline(clean, p.tension));/s.perimeter(k) = 1.05 * spline_length(closed_hobby_spline(clean, p.tension));/|seed 002: every section perimeter 5 % long"
-  "percentile_low|seed003_gate|algorithms/percentile_box.cpp|s/b.minimum(k) = percentile(v, p.alpha);/b.minimum(k) = percentile(v, p.alpha + 0.1);/|seed 003: the box's low percentile at alpha + 10 %"
-  "saliency_surface|seed004_gate|algorithms/saliency_features.cpp|s/return {ev\[0\], ev\[2\] - ev\[1\], ev\[1\] - ev\[0\]};/return {ev[0], ev[2] - ev[1], 0.0};/|seed 004: the surface-ness saliency (lambda1 - lambda2) always 0"
+  "cut_point_6px|seed001_gate|algorithms/stereo/cutting_point_detection.cpp|s/d.y = 0.5 \* (best.y1 + best.y2);/d.y = 0.5 * (best.y1 + best.y2) + 6;/|seed 001: the cutting point 6 px below the stalk line's midpoint"
+  "perimeter_5pct|seed002_gate|algorithms/size/section_perimeters.cpp|s/s.perimeter(k) = spline_length(closed_hobby_spline(clean, p.tension));/s.perimeter(k) = 1.05 * spline_length(closed_hobby_spline(clean, p.tension));/|seed 002: every section perimeter 5 % long"
+  "percentile_low|seed003_gate|algorithms/size/percentile_box.cpp|s/b.minimum(k) = percentile(v, p.alpha);/b.minimum(k) = percentile(v, p.alpha + 0.1);/|seed 003: the box's low percentile at alpha + 10 %"
+  "saliency_surface|seed004_gate|algorithms/classification/saliency_features.cpp|s/return {ev\[0\], ev\[2\] - ev\[1\], ev\[1\] - ev\[0\]};/return {ev[0], ev[2] - ev[1], 0.0};/|seed 004: the surface-ness saliency (lambda1 - lambda2) always 0"
 )
 want=("$@")
 mkdir -p "$dir"

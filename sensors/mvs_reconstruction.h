@@ -41,7 +41,7 @@ struct MvsNoiseParams {
   // f b / z (Shimizu and Okutomi 2001: the parabola fit of integer costs). The same
   // point at the same depth gets the same error in every view, so unlike the random
   // error it survives fusion. 0: off. SGBM on a rendered slanted plane: 0.13 px
-  // (tests/algorithms/sgbm_reconstruction_test.cpp; docs/seed004.md for the rows).
+  // (tests/algorithms/stereo/sgbm_reconstruction_test.cpp; docs/seed004.md for the rows).
   double pixel_locking_px = 0;
   // The matching's baseline b in the formulas above, m; 0: the distance to the nearest
   // other view of the pass. A stereo rig's own baseline (seed004_green_sgbm: 5 cm)

@@ -14,8 +14,8 @@
 #include <open3d/geometry/PointCloud.h>
 #include <tbb/global_control.h>
 
-#include "algorithms/crf_smoothing.h"
-#include "algorithms/dey2012_classification.h"
+#include "algorithms/classification/crf_smoothing.h"
+#include "algorithms/classification/dey2012_classification.h"
 #include "bench/protocols/classification.h"
 #include "bench/scene_file.h"
 #include "synth/rng.h"

@@ -1,11 +1,11 @@
 // Google Benchmark: each estimator on a registered bunch: 12 Kinect v2 turntable
 // views (seed 000 protocol) merged with their true poses, bunch points only.
-#include "algorithms/alpha_shape_volume.h"
-#include "algorithms/convex_hull_volume.h"
-#include "algorithms/cylinder_model_volume.h"
-#include "algorithms/pca_box.h"
-#include "algorithms/poisson_volume.h"
-#include "algorithms/voxel_volume.h"
+#include "algorithms/volume/alpha_shape_volume.h"
+#include "algorithms/volume/convex_hull_volume.h"
+#include "algorithms/volume/cylinder_model_volume.h"
+#include "algorithms/size/pca_box.h"
+#include "algorithms/volume/poisson_volume.h"
+#include "algorithms/volume/voxel_volume.h"
 #include "sensors/kinect_v2.h"
 #include "sensors/scan.h"
 #include "synth/generate.h"

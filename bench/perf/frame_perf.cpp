@@ -4,10 +4,10 @@
 // same run is the frame's own capture (BM_Capture_D435): every other figure is also
 // reported as a ratio to it, so "the pipeline costs x frames of simulation" reads
 // the same on any machine.
-#include "algorithms/cylinder_fit.h"
-#include "algorithms/ellipsoid_fit.h"
-#include "algorithms/percentile_box.h"
-#include "algorithms/seed003_roi.h"
+#include "algorithms/size/cylinder_fit.h"
+#include "algorithms/size/ellipsoid_fit.h"
+#include "algorithms/size/percentile_box.h"
+#include "algorithms/segmentation/seed003_roi.h"
 #include "bench/protocols/single_frame.h"
 #include "bench/scene_file.h"
 #include "sensors/scan.h"

@@ -9,7 +9,7 @@
 #include <opencv2/core/utility.hpp>
 #include <stdexcept>
 
-#include "algorithms/luo2016_stereo.h"
+#include "algorithms/stereo/luo2016_stereo.h"
 #include "bench/protocols/stereo_pair.h"
 #include "sensors/camera.h"
 #include "sensors/render/develop_image.h"

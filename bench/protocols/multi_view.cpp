@@ -1,6 +1,6 @@
 #include "bench/protocols/multi_view.h"
 
-#include "algorithms/registration.h"
+#include "algorithms/cloud/registration.h"
 #include "bench/case_result.h"
 #include "bench/protocols/capture.h"
 #include "sensors/visibility_hull.h"

@@ -5,7 +5,7 @@
 // CMake line.
 #pragma once
 
-#include "algorithms/registration.h"
+#include "algorithms/cloud/registration.h"
 #include "synth/registry.h"
 
 #include <Eigen/Geometry>

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "algorithms/ndi_kmeans.h"
+#include "algorithms/segmentation/ndi_kmeans.h"
 #include "bench/protocols/capture.h"
 
 namespace grapebench {

@@ -120,7 +120,7 @@ def measure(req, xyz, normals, viewpoints, method, alpha, depth):
 
 
 def estimate(request):
-    """In-process entry point: the request with arrays (algorithms/python_estimator.h)."""
+    """In-process entry point: the request with arrays (algorithms/external/python_estimator.h)."""
     p = request.get("params", {})
     method = p.get("method", "convex_hull")
     if method not in METHODS:

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Serve an in-process Python estimator (a function of a scene's `type: python` entry,
-algorithms/python_estimator.h) as a persistent external program (`type: external,
+algorithms/external/python_estimator.h) as a persistent external program (`type: external,
 version: 2, persistent: true`): each request line's files are read into the arrays the
 in-process request holds, the function is called, its answer written as a line.
 Usage: serve_python.py [--path DIR]... MODULE [FUNCTION]   (FUNCTION defaults to estimate)

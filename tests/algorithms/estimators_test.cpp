@@ -8,14 +8,14 @@
 #include <limits>
 #include <set>
 
-#include "algorithms/alpha_shape_volume.h"
-#include "algorithms/convex_hull_volume.h"
-#include "algorithms/cylinder_model_volume.h"
-#include "algorithms/pca_box.h"
-#include "algorithms/poisson_volume.h"
-#include "algorithms/python_estimator.h"
+#include "algorithms/volume/alpha_shape_volume.h"
+#include "algorithms/volume/convex_hull_volume.h"
+#include "algorithms/volume/cylinder_model_volume.h"
+#include "algorithms/size/pca_box.h"
+#include "algorithms/volume/poisson_volume.h"
+#include "algorithms/external/python_estimator.h"
 #include "algorithms/registry.h"
-#include "algorithms/voxel_volume.h"
+#include "algorithms/volume/voxel_volume.h"
 #include "synth/rng.h"
 
 namespace grapebench {
@@ -199,7 +199,7 @@ const std::string kPBCurved = "type: poisson\nsolver: screened\ncurved: true";
 // The Open3D example program (python3-open3d) through the external protocol.
 const std::string kExternal = std::string("type: external\ncommand: [/usr/bin/python3, \"") + GRAPEBENCH_SOURCE_DIR +
                               "/scripts/external/open3d_estimator.py\"]";
-// The same Open3D hull in-process (algorithms/python_estimator.h).
+// The same Open3D hull in-process (algorithms/external/python_estimator.h).
 const std::string kPython = std::string("type: python\nmodule: open3d_estimator\npath: [\"") + GRAPEBENCH_SOURCE_DIR +
                             "/scripts/external\"]";
 const std::string kCylinderFit = "type: cylinder_fit\nnormal_weight: 0\nmax_distance: 0.002";

@@ -1,5 +1,5 @@
 // The command-line program: help documents every parameter; errors are clear.
-#include "algorithms/colmap_sfm.h"
+#include "algorithms/stereo/colmap_sfm.h"
 #include "bench/heap_meter.h"
 #include "file_text.h"
 #include "sensors/render/cycles_render.h"

@@ -2,7 +2,7 @@
 // --help with its default in range; a manifest's scene reads back as the same scene;
 // an unknown key, or one the chosen type or method does not read, fails with file:line
 // for every kind.
-#include "algorithms/python_estimator.h"
+#include "algorithms/external/python_estimator.h"
 #include "bench/scene_file.h"
 #include "scene_error.h"
 

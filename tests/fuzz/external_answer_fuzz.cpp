@@ -1,6 +1,6 @@
 // An external program's answer (protocol version 2, every output kind), checked
 // against a request of 3 points and 2 classes.
-#include "algorithms/external_estimator.h"
+#include "algorithms/external/external_estimator.h"
 #include "synth/io.h"
 #include "tests/fuzz/fuzz_input.h"
 

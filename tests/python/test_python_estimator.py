@@ -1,5 +1,5 @@
 """Estimators written in Python, run in-process (`type: python`,
-algorithms/python_estimator.h): through the `grapebench` command (its own interpreter)
+algorithms/external/python_estimator.h): through the `grapebench` command (its own interpreter)
 and through grapebench.run (the caller's), against the same Open3D hull run as a
 persistent external program; errors and determinism."""
 import os

@@ -238,7 +238,7 @@ const ParamTable<Free>& free_table() {
 }
 
 // A free mapping keeps YAML 1.2's core types: what a Python estimator's own settings
-// arrive as (algorithms/python_estimator.h).
+// arrive as (algorithms/external/python_estimator.h).
 TEST(ParamTable, ADocumentKeepsYamlTypesAndAStringMustNotBeEmpty) {
   Free f;
   const auto node = ConfigNode::load_string(

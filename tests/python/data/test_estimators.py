@@ -1,5 +1,5 @@
 """In-process estimators for tests/python/test_python_estimator.py (and the C++ unit
-tests): each takes the request of algorithms/python_estimator.h."""
+tests): each takes the request of algorithms/external/python_estimator.h."""
 import numpy as np
 
 
