@@ -291,6 +291,28 @@ class ParamTable {
     return add(std::move(r));
   }
 
+  // Every row and rule of another struct's table, at this level, read into the field
+  // f: a struct that extends another's parameters takes its keys without writing them
+  // twice (luo2016_instances over luo2016_stereo's four sections).
+  template <class F, class S = Field<F>>
+  ParamTable& extend(F f, const ParamTable<std::type_identity_t<S>>& table) {
+    for (const auto& sr : table.rows_) {
+      Row r = row(sr.key, sr.unit, sr.range, sr.doc);
+      r.when = sr.when;
+      r.required = sr.required;
+      r.read = [f, g = sr.read](const ConfigNode& n, const std::string& k, T& v) { g(n, k, std::invoke(f, v)); };
+      r.get = [f, g = sr.get](const T& v) { return g(std::invoke(f, v)); };
+      if (sr.text) r.text = [f, g = sr.text](const T& v) { return g(std::invoke(f, v)); };
+      if (sr.in_range) r.in_range = [f, g = sr.in_range](const T& v) { return g(std::invoke(f, v)); };
+      if (sr.nested) r.nested = [f, g = sr.nested](const T& v) { return g(std::invoke(f, v)); };
+      if (sr.active) r.active = [f, g = sr.active](const T& v) { return g(std::invoke(f, v)); };
+      add(std::move(r));
+    }
+    for (const auto& rule : table.rules_)
+      rules_.push_back([f, rule](const T& v, const ConfigNode& n) { rule(std::invoke(f, v), n); });
+    return *this;
+  }
+
   // The last row applies only when `pred` holds for the values read before it;
   // `condition` says so in messages and help ("solver: screened").
   ParamTable& when(std::string condition, Pred pred) {
@@ -369,6 +391,8 @@ class ParamTable {
   }
 
  private:
+  template <class>
+  friend class ParamTable;  // extend() reads another table's rows
   struct Row {
     std::string key, unit, range, doc, when;
     std::function<void(const ConfigNode&, const std::string&, T&)> read;

@@ -42,27 +42,26 @@ Estimate luo2016_instances(const EstimatorInput& input, const Luo2016InstancesPa
   Estimate e;
   std::vector<ClusterRegion> regions;
   if (p.regions == Luo2016InstancesParams::Regions::All) {
-    regions = segment_clusters(image, p.segmentation);
+    regions = segment_clusters(image, p.system.segmentation);
   } else {
-    ClusterRegion r = segment_cluster(image, p.segmentation);
+    ClusterRegion r = segment_cluster(image, p.system.segmentation);
     if (r.found()) regions.push_back(std::move(r));
   }
   double total = 0;
   for (const ClusterRegion& r : regions) total += r.area;
-  const Luo2016Params system{p.segmentation, p.cutting_point, p.berries, p.matching};
   int berries = 0, volumes = 0;
   for (const ClusterRegion& r : regions) {
     ImageDetection bunch = cluster_detection(r, r.area / total);
     double depth = p.depth;
     if (stereo) {
       // The paper's system on this region (its peduncle lies outside the region, above it).
-      const Luo2016Result s = luo2016_stereo(pair, system, &r);
+      const Luo2016Result s = luo2016_stereo(pair, p.system, &r);
       if (s.ok()) bunch.volume = s.volume.volume, ++volumes;
       if (p.depth <= 0 && s.cut.found() && s.cut_disparity > 0) depth = s.cutting_point.z();
     }
     e.instances.push_back(std::move(bunch));
     if (depth <= 0) continue;
-    for (const Detection& b : detect_berries(image, r, depth, pair.fx, p.berries).berries) {
+    for (const Detection& b : detect_berries(image, r, depth, pair.fx, p.system.berries).berries) {
       e.instances.push_back(berry_detection(b, image.width, image.height));
       ++berries;
     }
@@ -83,13 +82,7 @@ const ParamTable<Luo2016InstancesParams>& luo2016_instances_param_table() {
           .real("depth", "m", &P::depth, 0, 10,
                 "the berries' distance for Eq. 6's radius window; 0: the cutting point's from the stereo pair (seed "
                 "001 Sect. 2.2.2.4)")
-          .section("segmentation", &P::segmentation, cluster_segmentation_param_table(),
-                   "colour component, Otsu and post-processing (seed 001 Sect. 2.2.2.1)")
-          .section("cutting_point", &P::cutting_point, cutting_point_param_table(),
-                   "peduncle ROI, bilateral filter, Canny, Hough lines (seed 001 Sect. 2.2.2.3)")
-          .section("berries", &P::berries, berry_circle_param_table(),
-                   "gradient Hough circles, refit and Eq. 7's rules (seed 001 Sect. 2.2.2.4)")
-          .section("matching", &P::matching, ncc_param_table(), "zero-mean NCC along the row (seed 001 Sect. 2.2.3.1)");
+          .extend(&P::system, luo2016_param_table());
   return table;
 }
 

@@ -12,11 +12,8 @@
 namespace grapebench {
 
 struct Luo2016InstancesParams {
-  // The paper's stages and their parameters, as luo2016_stereo's.
-  ClusterSegmentationParams segmentation;
-  CuttingPointParams cutting_point;
-  BerryCircleParams berries;
-  NccParams matching;
+  // The paper's stages and their parameters: luo2016_stereo's, under the same keys.
+  Luo2016Params system;
   enum class Regions { Largest, All };
   Regions regions = Regions::Largest;
   // m: the berries' distance for Eq. 6's radius window; 0: the cutting point's, from the

@@ -133,6 +133,48 @@ TEST(ParamTable, TwoRowsMayShareAKeyUnderExclusiveConditions) {
   EXPECT_THROW(ParamTable<S>().real("a", "m", &S::a, 0, 1, "").real("a", "m", &S::b, 0, 1, ""), std::logic_error);
 }
 
+// A struct extending Params takes its rows, conditions and rules at its own level: the
+// same keys, order, echo, help and errors as Params' own table, without writing them.
+TEST(ParamTable, ExtendTakesAnotherTablesKeysConditionsAndRules) {
+  struct Wider {
+    double scale = 2;
+    Params base;
+  };
+  const auto t = ParamTable<Wider>().real("scale", "-", &Wider::scale, 0, 10, "a scale").extend(&Wider::base, table());
+  Wider w;
+  t.read(ConfigNode::load_string("scale: 3\nradius: 0.2\nmode: exact\nexact_only: 0.25\ninner: {x: 7}\n", "t.yaml"),
+         w);
+  EXPECT_EQ(w.scale, 3);
+  EXPECT_EQ(w.base.radius, 0.2);
+  EXPECT_EQ(w.base.mode, Mode::Exact);
+  EXPECT_EQ(w.base.exact_only, 0.25);
+  EXPECT_EQ(w.base.inner.x, 7);
+  nlohmann::ordered_json own = table().to_json(w.base), echo = t.to_json(w);
+  EXPECT_EQ(echo["scale"], 3.0);
+  echo.erase("scale");
+  EXPECT_EQ(echo.dump(), own.dump());
+  const std::vector<KeyInfo> keys = t.keys(Wider{}), base_keys = table().keys(Params{});
+  ASSERT_EQ(keys.size(), base_keys.size() + 1);
+  for (std::size_t i = 0; i < base_keys.size(); ++i) {
+    EXPECT_EQ(keys[i + 1].key, base_keys[i].key);
+    EXPECT_EQ(keys[i + 1].range, base_keys[i].range);
+    EXPECT_EQ(keys[i + 1].default_value, base_keys[i].default_value);
+    EXPECT_EQ(keys[i + 1].when, base_keys[i].when);
+  }
+  const auto error = [&](const std::string& yaml) {
+    try {
+      Wider v;
+      t.read(ConfigNode::load_string(yaml, "t.yaml"), v);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("radius: 0.9\n").find("t.yaml:1: 'radius'"), std::string::npos);                        // range
+  EXPECT_NE(error("exact_only: 0.3\n").find("is read only with mode: exact"), std::string::npos);       // condition
+  EXPECT_NE(error("count: 6\nradius: 0.2\n").find("more than 5 only below 0.1 m"), std::string::npos);  // rule
+}
+
 TEST(ParamTable, RequiredKeysMustBeWritten) {
   struct S {
     std::vector<std::string> command;
