@@ -104,11 +104,17 @@ int main(int argc, char** argv) {
   app.add_option("--sky-filter", sky_filters,
                  "ray's camera: sky_filter, one or more (each against the same Cycles image; the panels show the first)")
       ->check(CLI::Range(1, 4));
+  std::vector<int> sky_strides = {PhotoCameraParams{}.sky_stride};
+  app.add_option("--sky-stride", sky_strides, "ray's camera: sky_stride, one or more (each with every --sky-filter)")
+      ->check(CLI::Range(1, 2));
   CLI11_PARSE(app, argc, argv);
+  std::vector<std::pair<int, int>> variants;  // (sky_filter, sky_stride), the first shown in the panels
+  for (const int sky_filter : sky_filters)
+    for (const int sky_stride : sky_strides) variants.emplace_back(sky_filter, sky_stride);
   try {
     std::filesystem::create_directories(out);
     std::ofstream csv(std::filesystem::path(out) / "agreement.csv");
-    csv << "view,sky_filter,variety,light,distance_m,iou_berry,iou_stem,iou_foliage,de_berry,de_stem,de_foliage,de_background,"
+    csv << "view,sky_filter,sky_stride,variety,light,distance_m,iou_berry,iou_stem,iou_foliage,de_berry,de_stem,de_foliage,de_background,"
            "ssim,grad_ray,grad_cycles,ray_s,cycles_s\n";
     const std::vector<View> set = validation_set();
     std::vector<std::size_t> chosen;
@@ -157,8 +163,9 @@ int main(int argc, char** argv) {
       std::vector<std::uint8_t> label(n);
       for (std::size_t i = 0; i < n; ++i) label[i] = exact.valid[i] ? exact.label[i] : 255;
       std::vector<std::uint8_t> shown, shown_cycles;  // the first sky_filter's images, for the panels
-      for (const int sky_filter : sky_filters) {
+      for (const auto& [sky_filter, sky_stride] : variants) {
         p.camera.sky_filter = sky_filter;
+        p.camera.sky_stride = sky_stride;
         const auto t0 = std::chrono::steady_clock::now();
         const RayRenderResult ray = ray_render(scene, cam, light, p.appearance, p.camera, f, 77);
         const double ray_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -181,13 +188,15 @@ int main(int argc, char** argv) {
         const double ssim = luminance_ssim(dr.rgb, dc.rgb, W, H);
         const double gr = boundary_gradient_median(dr.rgb, label, W, H), gc = boundary_gradient_median(dc.rgb, label, W, H);
         char line[512];
-        std::snprintf(line, sizeof line, "%zu,%d,%s,%s,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.4f,%.1f,%.1f,%.2f,%.2f\n", k,
-                      sky_filter, v.variety.c_str(), v.light_name.c_str(), v.distance, iou[0], iou[1], iou[2], de[0], de[1], de[2], de[3],
+        std::snprintf(line, sizeof line, "%zu,%d,%d,%s,%s,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.4f,%.1f,%.1f,%.2f,%.2f\n", k,
+                      sky_filter, sky_stride, v.variety.c_str(), v.light_name.c_str(), v.distance, iou[0], iou[1], iou[2], de[0], de[1], de[2], de[3],
                       ssim, gr, gc, ray_s, cyc.seconds);
         csv << line;
         std::fputs(line, stdout);
         std::fflush(stdout);
-        const std::string prefix = sky_filters.size() > 1 ? "sky_filter " + std::to_string(sky_filter) + ": " : "";
+        std::string prefix;
+        if (sky_filters.size() > 1) prefix += "sky_filter " + std::to_string(sky_filter) + ": ";
+        if (sky_strides.size() > 1) prefix += "sky_stride " + std::to_string(sky_stride) + ": ";
         const auto keep = [&](const std::string& key, double x) {
           if (std::isfinite(x)) all[prefix + key].push_back(x);
         };
@@ -198,7 +207,8 @@ int main(int argc, char** argv) {
         keep("ray_s", ray_s);
         keep("cycles_s", cyc.seconds);
       }
-      p.camera.sky_filter = sky_filters.front();
+      p.camera.sky_filter = variants.front().first;
+      p.camera.sky_stride = variants.front().second;
       // The view side by side: opengl (the images every figure so far was measured
       // on, same light) | ray | cycles.
       StereoRgbParams gl = p;
@@ -224,7 +234,7 @@ int main(int argc, char** argv) {
       double mean = 0;
       for (double x : xs) mean += x;
       mean /= xs.size();
-      const std::size_t colon = key.find(": ");  // after a "sky_filter N: " prefix
+      const std::size_t colon = key.rfind(": ");  // after "sky_filter N: " and "sky_stride N: " prefixes
       const std::string base = colon == std::string::npos ? key : key.substr(colon + 2);
       const bool higher_better = base.rfind("iou", 0) == 0 || base == "ssim";
       const double worst = higher_better ? *std::min_element(xs.begin(), xs.end()) : *std::max_element(xs.begin(), xs.end());

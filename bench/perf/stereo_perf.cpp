@@ -101,11 +101,12 @@ BENCHMARK(BM_StereoRenderRayFoliage)->Unit(benchmark::kMillisecond);
 // (row copies merged) is built once a pair, outside the loop as the RayScene is:
 // BM_RayRenderScene* times it, and an image's share is half of it.
 void ray_image(benchmark::State& state, const RayScene& scene, int sky_filter = PhotoCameraParams{}.sky_filter,
-               int threads = 1) {
+               int threads = 1, int sky_stride = PhotoCameraParams{}.sky_stride) {
   const tbb::global_control cap(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   StereoRgbParams p = setup().params;
   p.renderer = StereoRgbParams::Renderer::Ray;
   p.camera.sky_filter = sky_filter;
+  p.camera.sky_stride = sky_stride;
   const Camera left{StereoRgb(p).intrinsics(), setup().pose};
   const Illumination light = stereo_rgb_illumination(p, setup().pose);
   const RayRenderScene rows = ray_render_scene(scene, p.appearance);
@@ -130,6 +131,12 @@ void BM_RayImageFoliageTwoCores(benchmark::State& state) {
   ray_image(state, foliage_scene(), static_cast<int>(state.range(0)), 2);
 }
 BENCHMARK(BM_RayImageFoliageTwoCores)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+// sky_stride 2 (sky rays from one pixel in 2 x 2, the filter on that grid) at the
+// default sky_filter, on one thread and on two.
+void BM_RayImageFoliageSkyStride2(benchmark::State& state) {
+  ray_image(state, foliage_scene(), PhotoCameraParams{}.sky_filter, static_cast<int>(state.range(0)), 2);
+}
+BENCHMARK(BM_RayImageFoliageSkyStride2)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_RayRenderSceneFoliage(benchmark::State& state) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   const AppearanceParams look = setup().params.appearance;

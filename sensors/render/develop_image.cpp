@@ -122,6 +122,12 @@ const ParamTable<PhotoCameraParams>& photo_camera_param_table() {
                    "pass doubles the step (a-trous, Dammertz et al. 2010: 2 spans 13 x 13, 3 spans 29 x 29), lowering "
                    "the one sky ray's blotches without more rays. 3, the default: where both seed 001's berries (against "
                    "Cycles at 64 samples) and seed 004's AUCs (at 256) agree with Cycles (docs/sensors.md, item 5)")
+          .integer("sky_stride", "px", &P::sky_stride, 1, 2,
+                   "`ray` renderer: pixels between those that cast sky rays, along each axis. 1: every pixel; 2: one "
+                   "in 2 x 2, the filter's passes run on that grid (steps 2, 4, 8 px) and every other pixel takes "
+                   "the light of the grid's nearest compatible pixels (a joint bilateral upsampling on part, depth "
+                   "and normal, as the filter weighs; Kopf et al. 2007); a pixel with none casts its own. Faster, "
+                   "for a wider blur (docs/sensors.md, item 8)")
           .real("f_number", "-", &P::f_number, 0, 32,
                 "aperture of the thin lens, 0: pinhole (assumed f/4 for a 6 mm machine-vision lens)")
           .validate([](const P& p, const ConfigNode& node) {

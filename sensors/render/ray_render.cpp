@@ -85,11 +85,16 @@ struct Pixel {
   float depth;
   Eigen::Vector3f normal;
   Eigen::Array3f direct, albedo, trans, front, back;
+  // sky_stride 2, a pixel casting no sky rays of its own: the share of its surface
+  // samples that take its upsampled light (front and back then hold the mean of the
+  // others' own rays). In what was padding: still 88 bytes.
+  float share;
 };
 Pixel compact(const Sample& s) {
   return {s.key, s.depth, s.normal.cast<float>(), s.direct.cast<float>(), s.albedo.cast<float>(),
-          s.trans.cast<float>(), s.sky_front.cast<float>(), s.sky_back.cast<float>()};
+          s.trans.cast<float>(), s.sky_front.cast<float>(), s.sky_back.cast<float>(), 1.0f};
 }
+static_assert(sizeof(Pixel) == 88);
 
 // Per-thread buffers of a batch.
 struct Scratch {
@@ -216,9 +221,10 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   // sample that meets the object `reuse_key` names (its pixel's centre object) casts
   // no sky rays: the centre's estimate of the same surface's sky light, a pixel away,
   // stands for it (and is filtered over 5 x 5 pixels after): 3.57 -> 3.15 rays a
-  // pixel in a foliage view (docs/sensors.md, "Speed").
+  // pixel in a foliage view (docs/sensors.md, "Speed"). A sample `sky_off` marks casts
+  // none either (sky_stride 2: its pixel takes the grid's light).
   const auto shade = [&](const std::vector<Ray>& rays, const std::vector<std::uint64_t>& ids, std::vector<Sample>& out,
-                         Scratch& z, const std::uint64_t* reuse_key) {
+                         Scratch& z, const std::uint64_t* reuse_key, const char* sky_off) {
     const std::size_t n = rays.size();
     std::uint64_t cast = n;
     rs.intersect(rays, z.hits);
@@ -273,7 +279,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
         z.to.push_back(start + 50.0 * sd);
       }
       if (ground[i]) continue;
-      s.sky_reused = reuse_key != nullptr && reuse_key[i] == s.key;
+      s.sky_reused = (reuse_key != nullptr && reuse_key[i] == s.key) || (sky_off != nullptr && sky_off[i]);
       // Sky rays, cosine-weighted about each face that reflects (front) or transmits
       // (back): sky_samples of them, consecutive, the first from the stream s_sky.
       if (!s.sky_reused) {
@@ -377,27 +383,93 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   };
 
   // Pass 1: one ray through each pixel's centre (the exact labels' ray). Every pixel
-  // is written by the pass, so the buffer is left uninitialised.
+  // is written by the pass, so the buffer is left uninitialised. At sky_stride 2 only
+  // the grid's pixels (u and v even: the anchors) cast sky rays.
   const HugePageMemory centre_memory = huge_page_buffer(npix * sizeof(Pixel));
   Pixel* const centre = static_cast<Pixel*>(centre_memory.get());
   std::uninitialized_default_construct_n(centre, npix);
   std::atomic<std::uint64_t> rays{0};
   const PixelRays pr = cam.pixel_rays();
-  for_rows(H, [&](int r0, int r1) {
-    Scratch z;
-    std::vector<Ray> batch;
-    std::vector<std::uint64_t> ids;
-    std::vector<Sample> got;
-    for (int v = r0; v < r1; ++v) {
-      batch.clear(), ids.clear();
-      for (int u = 0; u < W; ++u) {
-        batch.push_back(pr(u + 0.5, v + 0.5));
-        ids.push_back((static_cast<std::uint64_t>(v) * W + u) * 128);
+  const bool strided = camera.sky_stride > 1;
+  const auto is_anchor = [](int u, int v) { return ((u | v) & 1) == 0; };
+  // The centre rays of the pixels `take` (u, v) selects, a row a batch; `sky_off` (u,
+  // v): that pixel casts no sky rays.
+  const auto centre_pass = [&](const auto& take, const auto& sky_off) {
+    for_rows(H, [&](int r0, int r1) {
+      Scratch z;
+      std::vector<Ray> batch;
+      std::vector<std::uint64_t> ids;
+      std::vector<Sample> got;
+      std::vector<char> off;
+      std::vector<int> at;
+      for (int v = r0; v < r1; ++v) {
+        batch.clear(), ids.clear(), off.clear(), at.clear();
+        for (int u = 0; u < W; ++u) {
+          if (!take(u, v)) continue;
+          batch.push_back(pr(u + 0.5, v + 0.5));
+          ids.push_back((static_cast<std::uint64_t>(v) * W + u) * 128);
+          off.push_back(sky_off(u, v));
+          at.push_back(u);
+        }
+        if (batch.empty()) continue;
+        rays += shade(batch, ids, got, z, nullptr, off.data());
+        for (std::size_t k = 0; k < at.size(); ++k) centre[static_cast<std::size_t>(v) * W + at[k]] = compact(got[k]);
       }
-      rays += shade(batch, ids, got, z, nullptr);
-      for (int u = 0; u < W; ++u) centre[static_cast<std::size_t>(v) * W + u] = compact(got[static_cast<std::size_t>(u)]);
-    }
-  });
+    });
+  };
+  centre_pass([](int, int) { return true; }, [&](int u, int v) { return strided && !is_anchor(u, v); });
+  // Whether neighbour o may lend pixel c its sky light, and with which weight before
+  // the taper: the same part class within 3 sd of depth (sd 1 % of the depth), then
+  // (n.n')^8 exp(-dz^2 / 2); 0 for none. Split so that the exponentials run in a loop
+  // of their own (below).
+  struct Tap {
+    std::size_t j;
+    float normal_term, exponent, taper;
+  };
+  const auto admit = [](const Pixel& c, const Pixel& o, float inv_sd, float& normal_term, float& exponent) {
+    if (o.key < 2 || (o.key >> 40) != (c.key >> 40)) return false;
+    const float dz = (o.depth - c.depth) * inv_sd;
+    if (dz * dz > 9) return false;  // beyond 3 sd: no weight worth an exp
+    const float nd = std::max(0.0f, c.normal.dot(o.normal)), n2 = nd * nd, n4 = n2 * n2;
+    normal_term = n4 * n4, exponent = -0.5f * dz * dz;
+    return true;
+  };
+  // sky_stride 2: the anchors within 2 px of (u, v) that may lend it their light,
+  // tapered by (3 - |du|)(3 - |dv|) (a tent over the grid); a normal term below 1e-30
+  // is none, so that every weight found is > 0 after the exponential.
+  const auto anchor_taps = [&](int u, int v, Tap* taps) {
+    const Pixel& c = centre[static_cast<std::size_t>(v) * W + u];
+    const float inv_sd = 1.0f / (0.01f * c.depth + 1e-4f);
+    int m = 0;
+    for (int vv = std::max(0, (v - 1) & ~1); vv <= std::min(H - 1, v + 2); vv += 2)
+      for (int uu = std::max(0, (u - 1) & ~1); uu <= std::min(W - 1, u + 2); uu += 2) {
+        const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
+        float nt, ex;
+        if (!admit(c, centre[j], inv_sd, nt, ex) || !(nt > 1e-30f)) continue;
+        taps[m++] = {j, nt, ex, static_cast<float>((3 - std::abs(uu - u)) * (3 - std::abs(vv - v)))};
+      }
+    return m;
+  };
+  // sky_stride 2: a surface pixel off the grid with no anchor to lend it light (a stem
+  // thinner than the grid, a leaf's tip) casts its own sky rays: its centre ray shaded
+  // again with the same draws, so it differs from pass 1 in its sky light alone.
+  std::vector<char> orphan(strided ? npix : 0, 0);
+  if (strided) {
+    for_rows(H, [&](int r0, int r1) {
+      Tap taps[9];
+      for (int v = r0; v < r1; ++v)
+        for (int u = 0; u < W; ++u) {
+          const std::size_t i = static_cast<std::size_t>(v) * W + u;
+          orphan[i] = centre[i].key >= 2 && !is_anchor(u, v) && anchor_taps(u, v, taps) == 0;
+        }
+    });
+    centre_pass([&](int u, int v) { return orphan[static_cast<std::size_t>(v) * W + u] != 0; },
+                [](int, int) { return false; });
+  }
+  // Whether pixel i holds a sky estimate of its own (its rays, or none needed).
+  const auto own_sky = [&](int u, int v, std::size_t i) {
+    return !strided || centre[i].key < 2 || is_anchor(u, v) || orphan[i];
+  };
   // Pass 2: pixels where what is seen changes within the 3 x 3 neighbourhood are
   // anti-aliased with samples^2 more rays, stratified and jittered over the pixel.
   for_rows(H, [&](int r0, int r1) {
@@ -426,7 +498,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
           owner.push_back(u);
         }
       }
-      if (!batch.empty()) rays += shade(batch, ids, got, z, reuse.data());
+      if (!batch.empty()) rays += shade(batch, ids, got, z, reuse.data(), nullptr);
       // Every pixel's mean over its samples (the centre, and the extra ones at edges).
       std::size_t k = 0;
       for (int u = 0; u < W; ++u) {
@@ -436,12 +508,33 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
         const C3 cf = c.front.cast<double>(), cb = c.back.cast<double>();
         C3 d = c.direct.cast<double>(), a = c.albedo.cast<double>(), t = c.trans.cast<double>(), f = cf, b = cb;
         double m = 1, surfaces = c.key >= 2 ? 1 : 0;
-        for (; k < owner.size() && owner[k] == u; ++k) {
-          const Sample& g = got[k];
-          d += g.direct, a += g.albedo, t += g.trans;
-          f += g.sky_reused ? cf : g.sky_front, b += g.sky_reused ? cb : g.sky_back;
-          m += 1;
-          surfaces += g.key >= 2;
+        if (own_sky(u, v, i)) {
+          for (; k < owner.size() && owner[k] == u; ++k) {
+            const Sample& g = got[k];
+            d += g.direct, a += g.albedo, t += g.trans;
+            f += g.sky_reused ? cf : g.sky_front, b += g.sky_reused ? cb : g.sky_back;
+            m += 1;
+            surfaces += g.key >= 2;
+          }
+        } else {
+          // No light of the centre's yet (it is upsampled after the filter): the
+          // samples that reuse it are counted, the others' own rays averaged.
+          double reused = 1, others = 0;
+          f = C3::Zero(), b = C3::Zero();
+          for (; k < owner.size() && owner[k] == u; ++k) {
+            const Sample& g = got[k];
+            d += g.direct, a += g.albedo, t += g.trans;
+            m += 1;
+            if (g.key < 2) continue;
+            if (g.sky_reused) {
+              reused += 1;
+            } else {
+              f += g.sky_front, b += g.sky_back;
+              others += 1;
+            }
+          }
+          c.share = static_cast<float>(reused / (reused + others));
+          surfaces = std::max(1.0, others);
         }
         // albedo is the pixel's mean (the coverage w times the surfaces' mean), the sky
         // light the mean over the samples that met a surface: their product is w rho L
@@ -458,25 +551,23 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   // With sky_filter > 1 the filtered light is filtered again at steps 2, 4, 8 with the
   // B3-spline taps of the edge-avoiding a-trous transform (Dammertz et al. 2010,
   // "Edge-avoiding A-Trous wavelet transform for fast global illumination filtering").
-  // Pixel (u, v)'s sky light filtered at `step` from front(j) / back(j) (box taps at
-  // step 1, B3-spline taps after). Neighbour j's weight is 0 unless it is the same part
-  // class within 3 sd of depth (sd 1 % of the depth), else (n.n')^8 exp(-dz^2 / 2). In
+  // Pixel (u, v)'s sky light filtered at `step` from front(j) / back(j) (box taps in
+  // the first pass, B3-spline taps after), over the neighbours `usable` admits. In
   // single precision throughout (the terms are floats already; the double conversions
   // were a third of the pass). In three loops, so that no accumulator is live across
   // the calls to exp (all vector registers are the caller's to save): the tests, the
   // exponentials, then the sums in tap order, each operation as one loop would do it,
-  // so the image is the same to the bit.
-  const auto filter = [&](int u, int v, int step, const auto& front, const auto& back, Eigen::Array3f& f,
-                          Eigen::Array3f& b) {
+  // so the image is the same to the bit. At sky_stride 2 the passes run on the grid
+  // (steps 2, 4, 8 px from an anchor meet anchors only).
+  const auto filter = [&](int u, int v, int step, bool box, const auto& front, const auto& back, const auto& usable,
+                          Eigen::Array3f& f, Eigen::Array3f& b) {
     static constexpr float spline[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
     const std::size_t i = static_cast<std::size_t>(v) * W + u;
     const Pixel& c = centre[i];
     f = front(i), b = back(i);
     if (c.key < 2) return;
-    const std::uint64_t part = c.key >> 40;
     const float inv_sd = 1.0f / (0.01f * c.depth + 1e-4f);
-    std::size_t tap[25];
-    float normal_term[25], exponent[25], taper[25];
+    Tap tap[25];
     int m = 0;
     for (int dv = -2; dv <= 2; ++dv) {
       const int vv = v + step * dv;
@@ -485,34 +576,32 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
         const int uu = u + step * du;
         if (uu < 0 || uu >= W) continue;
         const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
-        const Pixel& o = centre[j];
-        if (o.key < 2 || (o.key >> 40) != part) continue;
-        const float dz = (o.depth - c.depth) * inv_sd;
-        if (dz * dz > 9) continue;  // beyond 3 sd: no weight worth an exp
-        const float nd = std::max(0.0f, c.normal.dot(o.normal)), n2 = nd * nd, n4 = n2 * n2;
-        tap[m] = j, normal_term[m] = n4 * n4, exponent[m] = -0.5f * dz * dz;
-        taper[m] = spline[du + 2] * spline[dv + 2];
-        ++m;
+        float nt, ex;
+        if (!usable(j) || !admit(c, centre[j], inv_sd, nt, ex)) continue;
+        tap[m++] = {j, nt, ex, spline[du + 2] * spline[dv + 2]};
       }
     }
     float e[25];
-    for (int k = 0; k < m; ++k) e[k] = std::exp(exponent[k]);
+    for (int k = 0; k < m; ++k) e[k] = std::exp(tap[k].exponent);
     Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
     float sw = 0;
     for (int k = 0; k < m; ++k) {
-      float w = normal_term[k] * e[k];
+      float w = tap[k].normal_term * e[k];
       if (w == 0) continue;
-      if (step > 1) w *= taper[k];
-      sf += w * front(tap[k]), sb += w * back(tap[k]), sw += w;
+      if (!box) w *= tap[k].taper;
+      sf += w * front(tap[k].j), sb += w * back(tap[k].j), sw += w;
     }
     if (sw > 0) f = sf / sw, b = sb / sw;
   };
   const auto raw_front = [&](std::size_t j) -> const Eigen::Array3f& { return centre[j].front; };
   const auto raw_back = [&](std::size_t j) -> const Eigen::Array3f& { return centre[j].back; };
+  const auto any = [](std::size_t) { return true; };
   // Passes before the last into buffers of their own, two sets used in turn (none at
   // sky_filter 1): 2 MiB pages, uninitialised, since every pixel is written (fresh 4 KiB
-  // pages cost a fault and a clearing each: 5,600 of them an image at 800 x 600).
-  const int sets = std::min(camera.sky_filter - 1, 2);
+  // pages cost a fault and a clearing each: 5,600 of them an image at 800 x 600). At
+  // sky_stride 2 every pass goes to a buffer (its anchors only), the upsampling after.
+  const int buffered = strided ? camera.sky_filter : camera.sky_filter - 1;
+  const int sets = std::min(buffered, 2);
   const HugePageMemory lit_memory =
       sets > 0 ? huge_page_buffer(static_cast<std::size_t>(2 * sets) * npix * sizeof(Eigen::Array3f)) : nullptr;
   Eigen::Array3f* const lit_base = static_cast<Eigen::Array3f*>(lit_memory.get());
@@ -520,24 +609,54 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   const Eigen::Array3f* lit_back = nullptr;
   const auto lit_f = [&](std::size_t j) -> const Eigen::Array3f& { return lit_front[j]; };
   const auto lit_b = [&](std::size_t j) -> const Eigen::Array3f& { return lit_back[j]; };
-  // Pass p (from 1) filters at step 2^(p-1), the first from the raw light.
+  // Pass p (from 1) filters at step stride 2^(p-1), the first from the raw light.
+  const int stride = camera.sky_stride;
   const auto filter_pass = [&](int pass, int u, int v, Eigen::Array3f& f, Eigen::Array3f& b) {
-    if (pass == 1) filter(u, v, 1, raw_front, raw_back, f, b);
-    else filter(u, v, 1 << (pass - 1), lit_f, lit_b, f, b);
+    const int step = stride << (pass - 1);
+    if (pass == 1) filter(u, v, step, true, raw_front, raw_back, any, f, b);
+    else filter(u, v, step, false, lit_f, lit_b, any, f, b);
   };
-  for (int pass = 1; pass < camera.sky_filter; ++pass) {
+  for (int pass = 1; pass <= buffered; ++pass) {
     Eigen::Array3f* const nf = lit_base + static_cast<std::size_t>(2 * ((pass - 1) % 2)) * npix;
     Eigen::Array3f* const nb = nf + npix;
     std::uninitialized_default_construct_n(nf, 2 * npix);
     for_rows(H, [&](int r0, int r1) {
-      for (int v = r0; v < r1; ++v)
-        for (int u = 0; u < W; ++u) {
+      for (int v = r0; v < r1; v += 1) {
+        if (v % stride != 0) continue;
+        for (int u = 0; u < W; u += stride) {
           const std::size_t i = static_cast<std::size_t>(v) * W + u;
           filter_pass(pass, u, v, nf[i], nb[i]);
         }
+      }
     });
     lit_front = nf, lit_back = nb;
   }
+  // sky_stride 2: a pixel's light from the grid, and from its own samples.
+  const auto strided_light = [&](int u, int v, Eigen::Array3f& f, Eigen::Array3f& b) {
+    const std::size_t i = static_cast<std::size_t>(v) * W + u;
+    const Pixel& c = centre[i];
+    if (c.key < 2) {
+      f = c.front, b = c.back;
+    } else if (is_anchor(u, v)) {
+      f = lit_front[i], b = lit_back[i];
+    } else if (orphan[i]) {
+      // Its own rays, filtered over the other such pixels (the anchors lend none).
+      const auto own = [&](std::size_t j) { return orphan[j] != 0; };
+      filter(u, v, 1, true, raw_front, raw_back, own, f, b);
+    } else {
+      Tap taps[9];
+      const int m = anchor_taps(u, v, taps);
+      float e[9];
+      for (int k = 0; k < m; ++k) e[k] = std::exp(taps[k].exponent);
+      Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
+      float sw = 0;
+      for (int k = 0; k < m; ++k) {
+        const float w = taps[k].normal_term * e[k] * taps[k].taper;
+        sf += w * lit_front[taps[k].j], sb += w * lit_back[taps[k].j], sw += w;
+      }
+      f = c.share * sf / sw + (1 - c.share) * c.front, b = c.share * sb / sw + (1 - c.share) * c.back;
+    }
+  };
   RayRenderResult out;
   out.linear.assign(3 * npix, 0.0f);
   for_rows(H, [&](int r0, int r1) {
@@ -546,7 +665,8 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         const Pixel& c = centre[i];
         Eigen::Array3f f, b;
-        filter_pass(camera.sky_filter, u, v, f, b);
+        if (strided) strided_light(u, v, f, b);
+        else filter_pass(camera.sky_filter, u, v, f, b);
         const C3 px = M_PI * (c.direct.cast<double>() + c.albedo.cast<double>() * f.cast<double>() +
                               c.trans.cast<double>() * b.cast<double>());  // radiance times pi
         for (int ch = 0; ch < 3; ++ch) out.linear[3 * i + ch] = static_cast<float>(px[ch]);

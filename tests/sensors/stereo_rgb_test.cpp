@@ -200,6 +200,9 @@ TEST(StereoRgb, TheRayRenderersKeysAreCheckedWithTheirRanges) {
   const std::string sky = error_of("type: stereo_rgb\nrenderer: ray\nlight: overcast\ncamera: {sky_samples: 0}\n");
   EXPECT_NE(sky.find("sky_samples"), std::string::npos) << sky;
   EXPECT_NE(sky.find("[1, 64]"), std::string::npos) << sky;
+  const std::string stride = error_of("type: stereo_rgb\nrenderer: ray\nlight: overcast\ncamera: {sky_stride: 3}\n");
+  EXPECT_NE(stride.find("sky_stride"), std::string::npos) << stride;
+  EXPECT_NE(stride.find("[1, 2]"), std::string::npos) << stride;
   const std::string opengl = error_of("type: stereo_rgb\nappearance: {bloom: 0.5}\n");
   EXPECT_NE(opengl.find("renderer: ray or cycles"), std::string::npos) << opengl;
   const std::string cycles = error_of("type: stereo_rgb\nrenderer: ray\nlight: front\ncycles: {samples: 4}\n");
