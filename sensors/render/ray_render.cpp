@@ -39,13 +39,17 @@ Vec3 cosine_direction(const Vec3& n, double u1, double u2) {
   const double r = std::sqrt(u1);
   return (r * cp * t + r * sp * b + std::sqrt(std::max(0.0, 1 - u1)) * n).normalized();
 }
-Vec3 cone_direction(const Vec3& axis, double cos_max, double u1, double u2) {
-  Vec3 t, b;
-  frame(axis, t, b);
+// Uniform in the cone of half-angle acos(cos_max) about `axis`, whose frame is t, b.
+Vec3 cone_direction(const Vec3& axis, const Vec3& t, const Vec3& b, double cos_max, double u1, double u2) {
   double cp, sp;
   azimuth(u2, cp, sp);
   const double c = 1 - u1 * (1 - cos_max), s = std::sqrt(std::max(0.0, 1 - c * c));
   return (s * cp * t + s * sp * b + c * axis).normalized();
+}
+Vec3 cone_direction(const Vec3& axis, double cos_max, double u1, double u2) {
+  Vec3 t, b;
+  frame(axis, t, b);
+  return cone_direction(axis, t, b, cos_max, u1, u2);
 }
 
 // GGX microfacet lobe with Smith-Schlick shadowing and Schlick's Fresnel (Walter et al.
@@ -150,6 +154,8 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   const SkyModel sky(light);
   const Vec3 sun_dir = light.sun_direction.normalized();
   const double sun_cos_max = std::cos(0.5 * std::max(light.sun_size_deg, 1e-3) * M_PI / 180);
+  Vec3 sun_t, sun_b;  // the sun's frame, once an image instead of once a sample (the same bits)
+  frame(sun_dir, sun_t, sun_b);
   const C3 sun_rgb = light.sun * c3(light.sun_colour);
   double leaf_mean = 0;
   for (const Rgb& c : src.triangle_colour) leaf_mean += luminance(c3(c));
@@ -265,7 +271,8 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       s.depth = static_cast<float>((p - r.origin).dot(optical_axis));
       // The sun: towards a point of its disc, from the lit side (from the far side for
       // light through leaves and berries).
-      const Vec3 sd = cone_direction(sun_dir, sun_cos_max, hashed_uniform(s_sun, 2 * id), hashed_uniform(s_sun, 2 * id + 1));
+      const Vec3 sd =
+          cone_direction(sun_dir, sun_t, sun_b, sun_cos_max, hashed_uniform(s_sun, 2 * id), hashed_uniform(s_sun, 2 * id + 1));
       z.sun_used[i] = sd;
       const double cs = nrm.dot(sd);
       if (light.sun > 0 && (cs > 0 || (transmits && cs < 0))) {
@@ -436,8 +443,9 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   };
   // sky_stride 2: the anchors within 2 px of (u, v) that may lend it their light,
   // tapered by (3 - |du|)(3 - |dv|) (a tent over the grid); a normal term below 1e-30
-  // is none, so that every weight found is > 0 after the exponential.
-  const auto anchor_taps = [&](int u, int v, Tap* taps) {
+  // is none, so that every weight found is > 0 after the exponential. `first_only`:
+  // stop at the first (whether there is any).
+  const auto anchor_taps = [&](int u, int v, Tap* taps, bool first_only) {
     const Pixel& c = centre[static_cast<std::size_t>(v) * W + u];
     const float inv_sd = 1.0f / (0.01f * c.depth + 1e-4f);
     int m = 0;
@@ -447,6 +455,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
         float nt, ex;
         if (!admit(c, centre[j], inv_sd, nt, ex) || !(nt > 1e-30f)) continue;
         taps[m++] = {j, nt, ex, static_cast<float>((3 - std::abs(uu - u)) * (3 - std::abs(vv - v)))};
+        if (first_only) return m;
       }
     return m;
   };
@@ -460,7 +469,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       for (int v = r0; v < r1; ++v)
         for (int u = 0; u < W; ++u) {
           const std::size_t i = static_cast<std::size_t>(v) * W + u;
-          orphan[i] = centre[i].key >= 2 && !is_anchor(u, v) && anchor_taps(u, v, taps) == 0;
+          orphan[i] = centre[i].key >= 2 && !is_anchor(u, v) && anchor_taps(u, v, taps, true) == 0;
         }
     });
     centre_pass([&](int u, int v) { return orphan[static_cast<std::size_t>(v) * W + u] != 0; },
@@ -645,7 +654,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       filter(u, v, 1, true, raw_front, raw_back, own, f, b);
     } else {
       Tap taps[9];
-      const int m = anchor_taps(u, v, taps);
+      const int m = anchor_taps(u, v, taps, false);
       float e[9];
       for (int k = 0; k < m; ++k) e[k] = std::exp(taps[k].exponent);
       Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
