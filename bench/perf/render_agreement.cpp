@@ -162,7 +162,7 @@ int main(int argc, char** argv) {
       }
       std::vector<std::uint8_t> label(n);
       for (std::size_t i = 0; i < n; ++i) label[i] = exact.valid[i] ? exact.label[i] : 255;
-      std::vector<std::uint8_t> shown, shown_cycles;  // the first sky_filter's images, for the panels
+      std::vector<std::uint8_t> shown, shown_cycles;  // the first variant's images (sky_filter, sky_stride), for the panels
       for (const auto& [sky_filter, sky_stride] : variants) {
         p.camera.sky_filter = sky_filter;
         p.camera.sky_stride = sky_stride;

@@ -630,8 +630,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
     Eigen::Array3f* const nb = nf + npix;
     std::uninitialized_default_construct_n(nf, 2 * npix);
     for_rows(H, [&](int r0, int r1) {
-      for (int v = r0; v < r1; v += 1) {
-        if (v % stride != 0) continue;
+      for (int v = (r0 + stride - 1) / stride * stride; v < r1; v += stride) {
         for (int u = 0; u < W; u += stride) {
           const std::size_t i = static_cast<std::size_t>(v) * W + u;
           filter_pass(pass, u, v, nf[i], nb[i]);
@@ -701,12 +700,34 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
     if (rmax >= 0.5f) {
       const std::vector<float> sharp = out.linear;
       const int R = static_cast<int>(std::ceil(rmax));
+      // Each 16 x 16 tile gathers over the largest circle within R px of it, not the
+      // image's: a neighbour farther than that covers none of its pixels, so the taps
+      // and their order are the same (the same bits) and in-focus tiles take 3 x 3.
+      constexpr int T = 16;
+      const int tw = (W + T - 1) / T, th = (H + T - 1) / T;
+      std::vector<float> tile_max(static_cast<std::size_t>(tw) * th, 0.5f);
+      for (int v = 0; v < H; ++v)
+        for (int u = 0; u < W; ++u) {
+          float& m = tile_max[static_cast<std::size_t>(v / T) * tw + u / T];
+          m = std::max(m, radius[static_cast<std::size_t>(v) * W + u]);
+        }
+      const int reach = (R + T - 1) / T;  // tiles within R px
+      std::vector<int> tile_r(tile_max.size());
+      for (int ty = 0; ty < th; ++ty)
+        for (int tx = 0; tx < tw; ++tx) {
+          float m = 0.5f;
+          for (int y = std::max(0, ty - reach); y <= std::min(th - 1, ty + reach); ++y)
+            for (int x = std::max(0, tx - reach); x <= std::min(tw - 1, tx + reach); ++x)
+              m = std::max(m, tile_max[static_cast<std::size_t>(y) * tw + x]);
+          tile_r[static_cast<std::size_t>(ty) * tw + tx] = std::min(R, static_cast<int>(std::ceil(m)));
+        }
       for_rows(H, [&](int r0, int r1) {
         for (int v = r0; v < r1; ++v)
           for (int u = 0; u < W; ++u) {
+            const int Rt = tile_r[static_cast<std::size_t>(v / T) * tw + u / T];
             double acc[3] = {0, 0, 0}, sw = 0;
-            for (int dv = -R; dv <= R; ++dv)
-              for (int du = -R; du <= R; ++du) {
+            for (int dv = -Rt; dv <= Rt; ++dv)
+              for (int du = -Rt; du <= Rt; ++du) {
                 const int uu = u + du, vv = v + dv;
                 if (uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
                 const std::size_t j = static_cast<std::size_t>(vv) * W + uu;
