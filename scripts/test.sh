@@ -5,12 +5,13 @@
 # the regression gates' reduced end-to-end scenes and a short run of every libFuzzer
 # target (tests/fuzz). The long end-to-end tests (ctest label `e2e`) run in the
 # Release stage only: under the sanitizers they cost 3-4x and reach no code that the
-# gates' scenes do not (docs/harness.md, "CI's time").
+# gates' scenes do not; so do the unit tests labelled `sibling`, whose code a sibling
+# test runs under the sanitizers (tests/CMakeLists.txt; docs/harness.md, "CI's time").
 # At the end, whatever the outcome: a table of stage times and the 15 slowest tests.
 #
 # Usage: scripts/test.sh           the whole suite (what .ci/run runs)
 #        scripts/test.sh --quick   the developer loop: Release build and the unit tests
-#                                  (label `unit`), no gates, no sanitizers
+#                                  (labels `unit` and `sibling`), no gates, no sanitizers
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${GRAPEBENCH_BUILD_DIR:-$here/build}"
@@ -44,8 +45,8 @@ stage "set-up and Release build"
 "$here/scripts/setup.sh" "$build"
 ctest_args=(--output-on-failure --parallel "$(nproc)")
 if ((quick)); then
-  stage "unit tests (Release, label unit)"
-  (cd "$build" && ctest "${ctest_args[@]}" --timeout 600 -L unit --output-junit "$times/release.xml")
+  stage "unit tests (Release, labels unit and sibling)"
+  (cd "$build" && ctest "${ctest_args[@]}" --timeout 600 -L "^(unit|sibling)$" --output-junit "$times/release.xml")
   exit 0
 fi
 stage "every test (Release)"
@@ -60,7 +61,7 @@ if [ "${GRAPEBENCH_SKIP_SANITIZERS:-0}" != 1 ]; then
   CC=clang CXX=clang++ CMAKE_BUILD_TYPE=RelWithDebInfo "$here/scripts/setup.sh" "$asan" \
     -DGRAPEBENCH_FUZZ=ON -DGRAPEBENCH_FUZZ_SECONDS="${GRAPEBENCH_FUZZ_SECONDS:-20}" -DGRAPEBENCH_BUILD_BENCHMARKS=OFF
   stage "unit tests and fuzz targets (ASan + UBSan)"
-  (cd "$asan" && ctest "${ctest_args[@]}" --timeout 1800 -LE e2e --output-junit "$times/asan.xml")
+  (cd "$asan" && ctest "${ctest_args[@]}" --timeout 1800 -LE "^(e2e|sibling)$" --output-junit "$times/asan.xml")
   stage "regression gates (ASan + UBSan: the reduced end-to-end runs)"
   # The protocols' small gates; not the default suite, whose PB solvers took 578 s
   # under the sanitizers and the fuzzer's coverage (7 s in Release).
