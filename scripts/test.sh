@@ -5,8 +5,9 @@
 # the regression gates' reduced end-to-end scenes and a short run of every libFuzzer
 # target (tests/fuzz). The long end-to-end tests (ctest label `e2e`) run in the
 # Release stage only: under the sanitizers they cost 3-4x and reach no code that the
-# gates' scenes do not; so do the unit tests labelled `sibling`, whose code a sibling
-# test runs under the sanitizers (tests/CMakeLists.txt; docs/harness.md, "CI's time").
+# gates' scenes do not. The unit tests labelled `sibling` run in the Release stage only
+# too: a sibling test runs their code under the sanitizers (tests/CMakeLists.txt;
+# docs/harness.md, "CI's time").
 # At the end, whatever the outcome: a table of stage times and the 15 slowest tests.
 #
 # Usage: scripts/test.sh           the whole suite (what .ci/run runs)
