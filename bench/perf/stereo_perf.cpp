@@ -137,6 +137,32 @@ void BM_RayImageFoliageSkyStride2(benchmark::State& state) {
   ray_image(state, foliage_scene(), PhotoCameraParams{}.sky_filter, static_cast<int>(state.range(0)), 2);
 }
 BENCHMARK(BM_RayImageFoliageSkyStride2)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Seed 001's three lights (front, overshadow, overcast) of the foliage view, developed:
+// one by one (0) against one call for all three (1), the same images to the bit
+// (RayRender.SeveralLightsAtOnceGiveEachLightsOwnImageToTheBit). One thread.
+void BM_RayImageFoliageThreeLights(benchmark::State& state) {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  StereoRgbParams p = setup().params;
+  p.renderer = StereoRgbParams::Renderer::Ray;
+  const Camera left{StereoRgb(p).intrinsics(), setup().pose};
+  std::vector<Illumination> lights;
+  for (const auto l : {StereoRgbParams::Light::Front, StereoRgbParams::Light::Overshadow, StereoRgbParams::Light::Overcast}) {
+    p.light = l;
+    lights.push_back(stereo_rgb_illumination(p, setup().pose));
+  }
+  const RayRenderScene rows = ray_render_scene(foliage_scene(), p.appearance);
+  const double f = p.focal_length_mm * 1e-3;
+  for (auto _ : state) {
+    std::vector<RayRenderResult> r;
+    if (state.range(0) == 0) {
+      for (const Illumination& light : lights) r.push_back(ray_render(rows, left, light, p.appearance, p.camera, f, 4));
+    } else {
+      r = ray_render(rows, left, lights, p.appearance, p.camera, f, 4);
+    }
+    for (const RayRenderResult& x : r) benchmark::DoNotOptimize(develop_image(x.linear, left.K, p.camera, 2));
+  }
+}
+BENCHMARK(BM_RayImageFoliageThreeLights)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 void BM_RayRenderSceneFoliage(benchmark::State& state) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   const AppearanceParams look = setup().params.appearance;

@@ -67,48 +67,75 @@ double ggx(const Vec3& n, const Vec3& wi, const Vec3& wo, double alpha, double f
   return D * G * F / (4 * ni * no);
 }
 
-// What one camera ray (one sample of a pixel) saw and how it is lit. The pixel's
-// radiance is direct + albedo * sky_front + transmittance * sky_back: the sky rays'
-// incoming radiance is kept apart so that it can be filtered across pixels.
+// What one camera ray (one sample of a pixel) saw; how each light lights it is in a
+// SampleLight of its own. The pixel's radiance is direct + albedo * sky_front +
+// transmittance * sky_back: the sky rays' incoming radiance is kept apart so that it
+// can be filtered across pixels.
 struct Sample {
   std::uint64_t key = 0;  // 0 sky, 1 ground, else the object (part and instance): edges are where it changes
   float depth = 0;        // m along the optical axis (0: sky)
   Vec3 normal = Vec3::Zero();
-  C3 direct = C3::Zero(), sky_front = C3::Zero(), sky_back = C3::Zero();
   C3 albedo = C3::Zero(), trans = C3::Zero();
   bool sky_reused = false;  // an edge sample on its pixel's centre object: the centre's sky light stands for it
 };
+struct SampleLight {
+  C3 direct = C3::Zero(), sky_front = C3::Zero(), sky_back = C3::Zero();
+};
 
-// What a pixel keeps between the passes, in single precision: 88 bytes a pixel (the
-// double Sample and five more arrays were 280: a fresh 800 x 600 image spent a fifth
-// of its time in the kernel's page faults and in zero-filling them). Pass 2 replaces
-// the centre sample's terms by the pixel's means in place. Trivially destructible, so
-// it lives in huge pages (sensors/render/huge_page_buffer.h).
+// What a pixel keeps between the passes, in single precision (the double Sample and
+// five more arrays were 280 bytes a pixel: a fresh 800 x 600 image spent a fifth of
+// its time in the kernel's page faults and in zero-filling them): 56 bytes, and 36 a
+// light in a PixelLight. Pass 2 replaces the centre sample's terms by the pixel's
+// means in place. Trivially destructible, so both live in huge pages
+// (sensors/render/huge_page_buffer.h).
 struct Pixel {
   std::uint64_t key;
   float depth;
   Eigen::Vector3f normal;
-  Eigen::Array3f direct, albedo, trans, front, back;
+  Eigen::Array3f albedo, trans;
   // sky_stride 2, a pixel casting no sky rays of its own: the share of its surface
   // samples that take its upsampled light (front and back then hold the mean of the
-  // others' own rays). In what was padding: still 88 bytes.
+  // others' own rays).
   float share;
 };
+struct PixelLight {
+  Eigen::Array3f direct, front, back;
+};
+static_assert(sizeof(Pixel) == 56 && sizeof(PixelLight) == 36);
 Pixel compact(const Sample& s) {
-  return {s.key, s.depth, s.normal.cast<float>(), s.direct.cast<float>(), s.albedo.cast<float>(),
-          s.trans.cast<float>(), s.sky_front.cast<float>(), s.sky_back.cast<float>(), 1.0f};
+  return {s.key, s.depth, s.normal.cast<float>(), s.albedo.cast<float>(), s.trans.cast<float>(), 1.0f};
 }
-static_assert(sizeof(Pixel) == 88);
+PixelLight compact(const SampleLight& s) {
+  return {s.direct.cast<float>(), s.sky_front.cast<float>(), s.sky_back.cast<float>()};
+}
 
-// Per-thread buffers of a batch.
+// Per light, what the shading reads of it, once an image.
+struct LightTerms {
+  explicit LightTerms(const Illumination& light)
+      : sky(light),
+        sun_dir(light.sun_direction.normalized()),
+        sun_cos_max(std::cos(0.5 * std::max(light.sun_size_deg, 1e-3) * M_PI / 180)),
+        sun_rgb(light.sun * c3(light.sun_colour)),
+        sun_on(light.sun > 0) {
+    frame(sun_dir, sun_t, sun_b);  // the sun's frame, once an image instead of once a sample (the same bits)
+  }
+  SkyModel sky;
+  Vec3 sun_dir, sun_t, sun_b;
+  double sun_cos_max;
+  C3 sun_rgb;
+  bool sun_on;
+};
+
+// Per-thread buffers of a batch; the per-light ones hold sample i's light l at i L + l.
 struct Scratch {
   std::vector<Hit> hits, sky_hits;
   std::vector<Vec3> from, to, mfrom, mto;
-  std::vector<char> blocked, mblocked;
+  std::vector<char> blocked, mblocked, ground;
   std::vector<Ray> sky_rays;
-  std::vector<Material> mat;
-  std::vector<int> sun_of, front_of, back_of, mir_of;
-  std::vector<Vec3> sun_used, mir_dir;
+  std::vector<Material> mat, sky_mat;
+  std::vector<int> sun_of, front_of, back_of, mir_of, bounce_of;
+  std::vector<Vec3> sun_used, mir_dir, bfrom, bto;
+  std::vector<char> bblocked;
 };
 
 }  // namespace
@@ -140,7 +167,14 @@ RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illum
 RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, const Illumination& light,
                            const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
                            std::uint64_t seed) {
+  return std::move(ray_render(prepared, cam, std::span<const Illumination>(&light, 1), look, camera, focal_length, seed)[0]);
+}
+
+std::vector<RayRenderResult> ray_render(const RayRenderScene& prepared, const Camera& cam,
+                                        std::span<const Illumination> lights, const AppearanceParams& look,
+                                        const PhotoCameraParams& camera, double focal_length, std::uint64_t seed) {
   const int W = cam.K.width, H = cam.K.height, S = camera.samples;
+  const std::size_t nlight = lights.size();
   const std::size_t npix = static_cast<std::size_t>(W) * H;
   // One Embree scene: the bunch, its foliage and the row copies after it (a leaf
   // triangle past the scene's own is a copy), so every ray is cast once.
@@ -151,12 +185,9 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   const std::size_t src_tri = src.triangles.size();
 
   const double ground_z = scene.bunch_min().z() - look.ground_below;
-  const SkyModel sky(light);
-  const Vec3 sun_dir = light.sun_direction.normalized();
-  const double sun_cos_max = std::cos(0.5 * std::max(light.sun_size_deg, 1e-3) * M_PI / 180);
-  Vec3 sun_t, sun_b;  // the sun's frame, once an image instead of once a sample (the same bits)
-  frame(sun_dir, sun_t, sun_b);
-  const C3 sun_rgb = light.sun * c3(light.sun_colour);
+  std::vector<LightTerms> T;
+  T.reserve(nlight);
+  for (const Illumination& light : lights) T.emplace_back(light);
   double leaf_mean = 0;
   for (const Rgb& c : src.triangle_colour) leaf_mean += luminance(c3(c));
   leaf_mean = src.triangle_colour.empty() ? 1.0 : std::max(1e-6, leaf_mean / static_cast<double>(src_tri));
@@ -204,17 +235,18 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
     if (h.part == Part::Leaf) inst = static_cast<std::uint64_t>(fol.triangles[static_cast<std::size_t>(h.primitive)][0] + 1);
     return 2 + (static_cast<std::uint64_t>(h.part) << 40) + inst;
   };
-  // Radiance leaving a surface met by a sky ray (the one bounce): the sun where a
-  // shadow ray from it reaches the sun (`sunlit`), and half the sky without a test.
-  const auto bounce = [&](const Hit& h, bool sunlit) -> C3 {
-    const Material m = material(h);
-    const double cs = sunlit ? h.normal.dot(sun_dir) : 0.0;
-    C3 l = c3(m.albedo) * (0.5 * sky.irradiance + std::max(0.0, cs) * sun_rgb) / M_PI;
-    l += c3(m.transmittance) * std::max(0.0, -cs) * sun_rgb / M_PI;
+  // Radiance leaving a surface (material m, normal n) met by a sky ray (the one
+  // bounce) under light t: the sun where a shadow ray from it reaches the sun
+  // (`sunlit`), and half the sky without a test.
+  const auto bounce = [&](const Material& m, const Vec3& n, bool sunlit, const LightTerms& t) -> C3 {
+    const double cs = sunlit ? n.dot(t.sun_dir) : 0.0;
+    C3 l = c3(m.albedo) * (0.5 * t.sky.irradiance + std::max(0.0, cs) * t.sun_rgb) / M_PI;
+    l += c3(m.transmittance) * std::max(0.0, -cs) * t.sun_rgb / M_PI;
     return l;
   };
-  const auto ground_radiance = [&](bool sunlit) -> C3 {
-    return c3(look.ground_reflectance) * (sky.irradiance + (sunlit ? std::max(0.0, sun_dir.z()) : 0.0) * sun_rgb) / M_PI;
+  const auto ground_radiance = [&](bool sunlit, const LightTerms& t) -> C3 {
+    return c3(look.ground_reflectance) * (t.sky.irradiance + (sunlit ? std::max(0.0, t.sun_dir.z()) : 0.0) * t.sun_rgb) /
+           M_PI;
   };
   const std::uint64_t s_pix = derive_seed(seed, 11), s_sun = derive_seed(seed, 13), s_sky = derive_seed(seed, 14),
                       s_mir = derive_seed(seed, 15);
@@ -223,24 +255,26 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   std::vector<std::uint64_t> sky_stream(static_cast<std::size_t>(K), s_sky);  // the first as before
   for (int k = 1; k < K; ++k) sky_stream[static_cast<std::size_t>(k)] = derive_seed(s_sky, static_cast<std::uint64_t>(k));
 
-  // Shades a batch of camera rays; `ids` number the samples for the hashed draws. A
-  // sample that meets the object `reuse_key` names (its pixel's centre object) casts
-  // no sky rays: the centre's estimate of the same surface's sky light, a pixel away,
-  // stands for it (and is filtered over 5 x 5 pixels after): 3.57 -> 3.15 rays a
-  // pixel in a foliage view (docs/sensors.md, "Speed"). A sample `sky_off` marks casts
-  // none either (sky_stride 2: its pixel takes the grid's light).
+  // Shades a batch of camera rays under every light; `ids` number the samples for the
+  // hashed draws. A sample that meets the object `reuse_key` names (its pixel's centre
+  // object) casts no sky rays: the centre's estimate of the same surface's sky light, a
+  // pixel away, stands for it (and is filtered over 5 x 5 pixels after): 3.57 -> 3.15
+  // rays a pixel in a foliage view (docs/sensors.md, "Speed"). A sample `sky_off`
+  // marks casts none either (sky_stride 2: its pixel takes the grid's light). `lit`
+  // gets sample i's light l at i L + l.
   const auto shade = [&](const std::vector<Ray>& rays, const std::vector<std::uint64_t>& ids, std::vector<Sample>& out,
-                         Scratch& z, const std::uint64_t* reuse_key, const char* sky_off) {
-    const std::size_t n = rays.size();
+                         std::vector<SampleLight>& lit, Scratch& z, const std::uint64_t* reuse_key,
+                         const char* sky_off) {
+    const std::size_t n = rays.size(), nl = n * nlight;
     std::uint64_t cast = n;
     rs.intersect(rays, z.hits);
     out.assign(n, Sample{});
+    lit.assign(nl, SampleLight{});
     z.mat.resize(n);
-    z.sun_of.assign(n, -1), z.front_of.assign(n, -1), z.back_of.assign(n, -1), z.mir_of.assign(n, -1);
-    z.sun_used.resize(n), z.mir_dir.resize(n);
+    z.sun_of.assign(nl, -1), z.front_of.assign(n, -1), z.back_of.assign(n, -1), z.mir_of.assign(n, -1);
+    z.sun_used.resize(nl), z.mir_dir.resize(n);
+    z.ground.assign(n, 0);
     z.from.clear(), z.to.clear(), z.sky_rays.clear(), z.mfrom.clear(), z.mto.clear();
-    std::vector<char> ground(n, 0);
-    std::vector<Vec3> point(n);
     for (std::size_t i = 0; i < n; ++i) {
       const Ray& r = rays[i];
       const Hit& h = z.hits[i];
@@ -260,32 +294,38 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
         p = r.origin + (ground_z - r.origin.z()) / r.direction.z() * r.direction;
         nrm = Vec3::UnitZ();
         s.key = 1;
-        ground[i] = 1;
+        z.ground[i] = 1;
       } else {
-        s.direct = sky.radiance(r.direction);
-        if (r.direction.dot(sun_dir) >= sun_cos_max) s.direct += sun_rgb / (2 * M_PI * (1 - sun_cos_max));  // the disc
+        for (std::size_t l = 0; l < nlight; ++l) {
+          const LightTerms& t = T[l];
+          C3& d = lit[i * nlight + l].direct;
+          d = t.sky.radiance(r.direction);
+          if (r.direction.dot(t.sun_dir) >= t.sun_cos_max) d += t.sun_rgb / (2 * M_PI * (1 - t.sun_cos_max));  // the disc
+        }
         continue;
       }
-      point[i] = p;
       s.normal = nrm;
       s.depth = static_cast<float>((p - r.origin).dot(optical_axis));
       // The sun: towards a point of its disc, from the lit side (from the far side for
-      // light through leaves and berries).
-      const Vec3 sd =
-          cone_direction(sun_dir, sun_t, sun_b, sun_cos_max, hashed_uniform(s_sun, 2 * id), hashed_uniform(s_sun, 2 * id + 1));
-      z.sun_used[i] = sd;
-      const double cs = nrm.dot(sd);
-      if (light.sun > 0 && (cs > 0 || (transmits && cs < 0))) {
-        Vec3 start = p + (cs > 0 ? 1e-4 : -1e-4) * nrm;
-        if (cs < 0 && h.part == Part::Berry && h.berry >= 0) {
-          const Berry& b = scene.bunch().berries[static_cast<std::size_t>(h.berry)];
-          start = b.centre + (b.radius + 1e-4) * sd;  // the berry's sunlit side
+      // light through leaves and berries). The same draw under every light.
+      const double su = hashed_uniform(s_sun, 2 * id), sv = hashed_uniform(s_sun, 2 * id + 1);
+      for (std::size_t l = 0; l < nlight; ++l) {
+        const LightTerms& t = T[l];
+        const Vec3 sd = cone_direction(t.sun_dir, t.sun_t, t.sun_b, t.sun_cos_max, su, sv);
+        z.sun_used[i * nlight + l] = sd;
+        const double cs = nrm.dot(sd);
+        if (t.sun_on && (cs > 0 || (transmits && cs < 0))) {
+          Vec3 start = p + (cs > 0 ? 1e-4 : -1e-4) * nrm;
+          if (cs < 0 && h.part == Part::Berry && h.berry >= 0) {
+            const Berry& b = scene.bunch().berries[static_cast<std::size_t>(h.berry)];
+            start = b.centre + (b.radius + 1e-4) * sd;  // the berry's sunlit side
+          }
+          z.sun_of[i * nlight + l] = static_cast<int>(z.from.size());
+          z.from.push_back(start);
+          z.to.push_back(start + 50.0 * sd);
         }
-        z.sun_of[i] = static_cast<int>(z.from.size());
-        z.from.push_back(start);
-        z.to.push_back(start + 50.0 * sd);
       }
-      if (ground[i]) continue;
+      if (z.ground[i]) continue;
       s.sky_reused = (reuse_key != nullptr && reuse_key[i] == s.key) || (sky_off != nullptr && sky_off[i]);
       // Sky rays, cosine-weighted about each face that reflects (front) or transmits
       // (back): sky_samples of them, consecutive, the first from the stream s_sky.
@@ -327,74 +367,90 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
     rs.intersect(z.sky_rays, z.sky_hits);
     rs.occluded(z.mfrom, z.mto, z.mblocked);
     cast += z.from.size() + z.sky_rays.size() + z.mfrom.size();
-    // Whether the sun reaches what the sky rays met (from the face it turns to the sun).
-    std::vector<Vec3> bfrom, bto;
-    std::vector<int> bounce_of(z.sky_rays.size(), -1);
-    for (std::size_t k = 0; k < z.sky_rays.size(); ++k) {
+    // What the sky rays met, and whether each light's sun reaches it (from the face it
+    // turns to the sun).
+    const std::size_t ns = z.sky_rays.size();
+    z.sky_mat.resize(ns);
+    z.bounce_of.assign(ns * nlight, -1);
+    z.bfrom.clear(), z.bto.clear();
+    for (std::size_t k = 0; k < ns; ++k) {
       const Hit& a = z.sky_hits[k];
-      if (!a.valid() || light.sun <= 0) continue;
-      const double cs = a.normal.dot(sun_dir);
+      if (!a.valid()) continue;
+      z.sky_mat[k] = material(a);
       const bool transmits = a.part == Part::Leaf || a.part == Part::Berry;
-      if (cs <= 0 && !transmits) continue;
-      Vec3 start = a.point + (cs > 0 ? 1e-4 : -1e-4) * a.normal;
-      if (cs <= 0 && a.part == Part::Berry && a.berry >= 0) {
-        const Berry& b = scene.bunch().berries[static_cast<std::size_t>(a.berry)];
-        start = b.centre + (b.radius + 1e-4) * sun_dir;  // the berry's sunlit side
+      for (std::size_t l = 0; l < nlight; ++l) {
+        const LightTerms& t = T[l];
+        if (!t.sun_on) continue;
+        const double cs = a.normal.dot(t.sun_dir);
+        if (cs <= 0 && !transmits) continue;
+        Vec3 start = a.point + (cs > 0 ? 1e-4 : -1e-4) * a.normal;
+        if (cs <= 0 && a.part == Part::Berry && a.berry >= 0) {
+          const Berry& b = scene.bunch().berries[static_cast<std::size_t>(a.berry)];
+          start = b.centre + (b.radius + 1e-4) * t.sun_dir;  // the berry's sunlit side
+        }
+        z.bounce_of[k * nlight + l] = static_cast<int>(z.bfrom.size());
+        z.bfrom.push_back(start);
+        z.bto.push_back(start + 50.0 * t.sun_dir);
       }
-      bounce_of[k] = static_cast<int>(bfrom.size());
-      bfrom.push_back(start);
-      bto.push_back(start + 50.0 * sun_dir);
     }
-    std::vector<char> bblocked;
-    rs.occluded(bfrom, bto, bblocked);
-    cast += bfrom.size();
-    const auto incoming = [&](int k) -> C3 {
-      const Ray& sr = z.sky_rays[static_cast<std::size_t>(k)];
-      const Hit& a = z.sky_hits[static_cast<std::size_t>(k)];
-      const int b = bounce_of[static_cast<std::size_t>(k)];
-      if (a.valid()) return bounce(a, b >= 0 && !bblocked[static_cast<std::size_t>(b)]);
-      if (sr.direction.z() < 0) return ground_radiance(true);
-      return sky.radiance(sr.direction);
+    rs.occluded(z.bfrom, z.bto, z.bblocked);
+    cast += z.bfrom.size();
+    const auto incoming = [&](int k, std::size_t l) -> C3 {
+      const std::size_t kk = static_cast<std::size_t>(k);
+      const Ray& sr = z.sky_rays[kk];
+      const Hit& a = z.sky_hits[kk];
+      const int b = z.bounce_of[kk * nlight + l];
+      if (a.valid()) return bounce(z.sky_mat[kk], a.normal, b >= 0 && !z.bblocked[static_cast<std::size_t>(b)], T[l]);
+      if (sr.direction.z() < 0) return ground_radiance(true, T[l]);
+      return T[l].sky.radiance(sr.direction);
     };
-    const auto mean_incoming = [&](int first) -> C3 {
+    const auto mean_incoming = [&](int first, std::size_t l) -> C3 {
       C3 sum = C3::Zero();
-      for (int k = 0; k < K; ++k) sum += incoming(first + k);
+      for (int k = 0; k < K; ++k) sum += incoming(first + k, l);
       return sum / K;
     };
     for (std::size_t i = 0; i < n; ++i) {
-      Sample& s = out[i];
+      const Sample& s = out[i];
       if (s.key == 0) continue;
-      const bool lit = z.sun_of[i] >= 0 && !z.blocked[static_cast<std::size_t>(z.sun_of[i])];
-      if (ground[i]) {
-        s.direct = ground_radiance(lit);
-        continue;
-      }
       const Vec3 wo = -rays[i].direction;
-      if (lit) {
-        const Vec3& sd = z.sun_used[i];
-        const double cs = s.normal.dot(sd);
-        if (cs > 0) s.direct += (s.albedo / M_PI + ggx(s.normal, sd, wo, z.mat[i].roughness, z.mat[i].specular)) * cs * sun_rgb;
-        else s.direct += s.trans / M_PI * (-cs) * sun_rgb;
-      }
-      // Cosine-weighted sampling: the irradiance estimate is pi L, the reflected
-      // radiance rho / pi times that.
-      if (z.front_of[i] >= 0) s.sky_front = mean_incoming(z.front_of[i]);
-      if (z.back_of[i] >= 0) s.sky_back = mean_incoming(z.back_of[i]);
-      if (z.mir_of[i] >= 0 && !z.mblocked[static_cast<std::size_t>(z.mir_of[i])]) {
-        const Vec3& d = z.mir_dir[i];
-        const double f = z.mat[i].specular + (1 - z.mat[i].specular) * std::pow(1 - std::max(0.0, s.normal.dot(wo)), 5);
-        s.direct += f * (d.z() < 0 ? ground_radiance(true) : sky.radiance(d));
+      for (std::size_t l = 0; l < nlight; ++l) {
+        const LightTerms& t = T[l];
+        SampleLight& o = lit[i * nlight + l];
+        const int so = z.sun_of[i * nlight + l];
+        const bool sunlit = so >= 0 && !z.blocked[static_cast<std::size_t>(so)];
+        if (z.ground[i]) {
+          o.direct = ground_radiance(sunlit, t);
+          continue;
+        }
+        if (sunlit) {
+          const Vec3& sd = z.sun_used[i * nlight + l];
+          const double cs = s.normal.dot(sd);
+          if (cs > 0) o.direct += (s.albedo / M_PI + ggx(s.normal, sd, wo, z.mat[i].roughness, z.mat[i].specular)) * cs * t.sun_rgb;
+          else o.direct += s.trans / M_PI * (-cs) * t.sun_rgb;
+        }
+        // Cosine-weighted sampling: the irradiance estimate is pi L, the reflected
+        // radiance rho / pi times that.
+        if (z.front_of[i] >= 0) o.sky_front = mean_incoming(z.front_of[i], l);
+        if (z.back_of[i] >= 0) o.sky_back = mean_incoming(z.back_of[i], l);
+        if (z.mir_of[i] >= 0 && !z.mblocked[static_cast<std::size_t>(z.mir_of[i])]) {
+          const Vec3& d = z.mir_dir[i];
+          const double f = z.mat[i].specular + (1 - z.mat[i].specular) * std::pow(1 - std::max(0.0, s.normal.dot(wo)), 5);
+          o.direct += f * (d.z() < 0 ? ground_radiance(true, t) : t.sky.radiance(d));
+        }
       }
     }
     return cast;
   };
 
   // Pass 1: one ray through each pixel's centre (the exact labels' ray). Every pixel
-  // is written by the pass, so the buffer is left uninitialised. At sky_stride 2 only
-  // the grid's pixels (u and v even: the anchors) cast sky rays.
-  const HugePageMemory centre_memory = huge_page_buffer(npix * sizeof(Pixel));
+  // is written by the pass, so the buffers are left uninitialised. At sky_stride 2 only
+  // the grid's pixels (u and v even: the anchors) cast sky rays. Pixel i's light l is
+  // at centre_lit[i L + l].
+  const HugePageMemory centre_memory = huge_page_buffer(npix * (sizeof(Pixel) + nlight * sizeof(PixelLight)));
   Pixel* const centre = static_cast<Pixel*>(centre_memory.get());
   std::uninitialized_default_construct_n(centre, npix);
+  PixelLight* const centre_lit = reinterpret_cast<PixelLight*>(centre + npix);
+  std::uninitialized_default_construct_n(centre_lit, npix * nlight);
   std::atomic<std::uint64_t> rays{0};
   const PixelRays pr = cam.pixel_rays();
   const bool strided = camera.sky_stride > 1;
@@ -407,6 +463,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       std::vector<Ray> batch;
       std::vector<std::uint64_t> ids;
       std::vector<Sample> got;
+      std::vector<SampleLight> got_lit;
       std::vector<char> off;
       std::vector<int> at;
       for (int v = r0; v < r1; ++v) {
@@ -419,8 +476,12 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
           at.push_back(u);
         }
         if (batch.empty()) continue;
-        rays += shade(batch, ids, got, z, nullptr, off.data());
-        for (std::size_t k = 0; k < at.size(); ++k) centre[static_cast<std::size_t>(v) * W + at[k]] = compact(got[k]);
+        rays += shade(batch, ids, got, got_lit, z, nullptr, off.data());
+        for (std::size_t k = 0; k < at.size(); ++k) {
+          const std::size_t i = static_cast<std::size_t>(v) * W + at[k];
+          centre[i] = compact(got[k]);
+          for (std::size_t l = 0; l < nlight; ++l) centre_lit[i * nlight + l] = compact(got_lit[k * nlight + l]);
+        }
       }
     });
   };
@@ -486,7 +547,9 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
     std::vector<Ray> batch;
     std::vector<std::uint64_t> ids, reuse;
     std::vector<Sample> got;
+    std::vector<SampleLight> got_lit;
     std::vector<int> owner;
+    std::vector<C3> d(nlight), f(nlight), b(nlight), cf(nlight), cb(nlight);
     for (int v = r0; v < r1; ++v) {
       batch.clear(), ids.clear(), reuse.clear(), owner.clear();
       for (int u = 0; u < W; ++u) {
@@ -507,21 +570,29 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
           owner.push_back(u);
         }
       }
-      if (!batch.empty()) rays += shade(batch, ids, got, z, reuse.data(), nullptr);
+      if (!batch.empty()) rays += shade(batch, ids, got, got_lit, z, reuse.data(), nullptr);
       // Every pixel's mean over its samples (the centre, and the extra ones at edges).
       std::size_t k = 0;
       for (int u = 0; u < W; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         Pixel& c = centre[i];
         if (k >= owner.size() || owner[k] != u) continue;  // no extra samples: the centre's terms stand
-        const C3 cf = c.front.cast<double>(), cb = c.back.cast<double>();
-        C3 d = c.direct.cast<double>(), a = c.albedo.cast<double>(), t = c.trans.cast<double>(), f = cf, b = cb;
+        PixelLight* const cl = centre_lit + i * nlight;
+        for (std::size_t l = 0; l < nlight; ++l) {
+          cf[l] = cl[l].front.cast<double>(), cb[l] = cl[l].back.cast<double>();
+          d[l] = cl[l].direct.cast<double>(), f[l] = cf[l], b[l] = cb[l];
+        }
+        C3 a = c.albedo.cast<double>(), t = c.trans.cast<double>();
         double m = 1, surfaces = c.key >= 2 ? 1 : 0;
         if (own_sky(u, v, i)) {
           for (; k < owner.size() && owner[k] == u; ++k) {
             const Sample& g = got[k];
-            d += g.direct, a += g.albedo, t += g.trans;
-            f += g.sky_reused ? cf : g.sky_front, b += g.sky_reused ? cb : g.sky_back;
+            a += g.albedo, t += g.trans;
+            for (std::size_t l = 0; l < nlight; ++l) {
+              const SampleLight& gl = got_lit[k * nlight + l];
+              d[l] += gl.direct;
+              f[l] += g.sky_reused ? cf[l] : gl.sky_front, b[l] += g.sky_reused ? cb[l] : gl.sky_back;
+            }
             m += 1;
             surfaces += g.key >= 2;
           }
@@ -529,16 +600,20 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
           // No light of the centre's yet (it is upsampled after the filter): the
           // samples that reuse it are counted, the others' own rays averaged.
           double reused = 1, others = 0;
-          f = C3::Zero(), b = C3::Zero();
+          for (std::size_t l = 0; l < nlight; ++l) f[l] = C3::Zero(), b[l] = C3::Zero();
           for (; k < owner.size() && owner[k] == u; ++k) {
             const Sample& g = got[k];
-            d += g.direct, a += g.albedo, t += g.trans;
+            a += g.albedo, t += g.trans;
+            for (std::size_t l = 0; l < nlight; ++l) d[l] += got_lit[k * nlight + l].direct;
             m += 1;
             if (g.key < 2) continue;
             if (g.sky_reused) {
               reused += 1;
             } else {
-              f += g.sky_front, b += g.sky_back;
+              for (std::size_t l = 0; l < nlight; ++l) {
+                const SampleLight& gl = got_lit[k * nlight + l];
+                f[l] += gl.sky_front, b[l] += gl.sky_back;
+              }
               others += 1;
             }
           }
@@ -549,8 +624,11 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
         // light the mean over the samples that met a surface: their product is w rho L
         // (a mean over every sample would give w^2 rho L, a dark fringe at silhouettes).
         const double s = std::max(1.0, surfaces);
-        c.direct = (d / m).cast<float>(), c.albedo = (a / m).cast<float>(), c.trans = (t / m).cast<float>();
-        c.front = (f / s).cast<float>(), c.back = (b / s).cast<float>();
+        c.albedo = (a / m).cast<float>(), c.trans = (t / m).cast<float>();
+        for (std::size_t l = 0; l < nlight; ++l) {
+          cl[l].direct = (d[l] / m).cast<float>();
+          cl[l].front = (f[l] / s).cast<float>(), cl[l].back = (b[l] / s).cast<float>();
+        }
       }
     }
   });
@@ -560,20 +638,22 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   // With sky_filter > 1 the filtered light is filtered again at steps 2, 4, 8 with the
   // B3-spline taps of the edge-avoiding a-trous transform (Dammertz et al. 2010,
   // "Edge-avoiding A-Trous wavelet transform for fast global illumination filtering").
-  // Pixel (u, v)'s sky light filtered at `step` from front(j) / back(j) (box taps in
-  // the first pass, B3-spline taps after), over the neighbours `usable` admits. In
-  // single precision throughout (the terms are floats already; the double conversions
-  // were a third of the pass). In three loops, so that no accumulator is live across
-  // the calls to exp (all vector registers are the caller's to save): the tests, the
-  // exponentials, then the sums in tap order, each operation as one loop would do it,
-  // so the image is the same to the bit. At sky_stride 2 the passes run on the grid
-  // (steps 2, 4, 8 px from an anchor meet anchors only).
+  // Pixel (u, v)'s sky light under each light l filtered at `step` from front(j, l) /
+  // back(j, l) (box taps in the first pass, B3-spline taps after), over the
+  // neighbours `usable` admits, into f[l] and b[l]: the taps and their weights once,
+  // the sums per light. In single precision throughout (the terms are floats already;
+  // the double conversions were a third of the pass). In loops of their own, so that
+  // no accumulator is live across the calls to exp (all vector registers are the
+  // caller's to save): the tests, the exponentials, then the sums in tap order, each
+  // operation as one loop would do it, so the image is the same to the bit. At
+  // sky_stride 2 the passes run on the grid (steps 2, 4, 8 px from an anchor meet
+  // anchors only).
   const auto filter = [&](int u, int v, int step, bool box, const auto& front, const auto& back, const auto& usable,
-                          Eigen::Array3f& f, Eigen::Array3f& b) {
+                          Eigen::Array3f* f, Eigen::Array3f* b) {
     static constexpr float spline[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
     const std::size_t i = static_cast<std::size_t>(v) * W + u;
     const Pixel& c = centre[i];
-    f = front(i), b = back(i);
+    for (std::size_t l = 0; l < nlight; ++l) f[l] = front(i, l), b[l] = back(i, l);
     if (c.key < 2) return;
     const float inv_sd = 1.0f / (0.01f * c.depth + 1e-4f);
     Tap tap[25];
@@ -592,61 +672,72 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
     }
     float e[25];
     for (int k = 0; k < m; ++k) e[k] = std::exp(tap[k].exponent);
-    Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
+    float w[25];
+    std::size_t js[25];
+    int mw = 0;
     float sw = 0;
     for (int k = 0; k < m; ++k) {
-      float w = tap[k].normal_term * e[k];
-      if (w == 0) continue;
-      if (!box) w *= tap[k].taper;
-      sf += w * front(tap[k].j), sb += w * back(tap[k].j), sw += w;
+      float wk = tap[k].normal_term * e[k];
+      if (wk == 0) continue;
+      if (!box) wk *= tap[k].taper;
+      w[mw] = wk, js[mw++] = tap[k].j;
+      sw += wk;
     }
-    if (sw > 0) f = sf / sw, b = sb / sw;
+    if (!(sw > 0)) return;
+    for (std::size_t l = 0; l < nlight; ++l) {
+      Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
+      for (int k = 0; k < mw; ++k) sf += w[k] * front(js[k], l), sb += w[k] * back(js[k], l);
+      f[l] = sf / sw, b[l] = sb / sw;
+    }
   };
-  const auto raw_front = [&](std::size_t j) -> const Eigen::Array3f& { return centre[j].front; };
-  const auto raw_back = [&](std::size_t j) -> const Eigen::Array3f& { return centre[j].back; };
+  const auto raw_front = [&](std::size_t j, std::size_t l) -> const Eigen::Array3f& { return centre_lit[j * nlight + l].front; };
+  const auto raw_back = [&](std::size_t j, std::size_t l) -> const Eigen::Array3f& { return centre_lit[j * nlight + l].back; };
   const auto any = [](std::size_t) { return true; };
   // Passes before the last into buffers of their own, two sets used in turn (none at
   // sky_filter 1): 2 MiB pages, uninitialised, since every pixel is written (fresh 4 KiB
   // pages cost a fault and a clearing each: 5,600 of them an image at 800 x 600). At
   // sky_stride 2 every pass goes to a buffer (its anchors only), the upsampling after.
+  // Pixel j's light l at j L + l.
   const int buffered = strided ? camera.sky_filter : camera.sky_filter - 1;
   const int sets = std::min(buffered, 2);
+  const std::size_t plane = npix * nlight;
   const HugePageMemory lit_memory =
-      sets > 0 ? huge_page_buffer(static_cast<std::size_t>(2 * sets) * npix * sizeof(Eigen::Array3f)) : nullptr;
+      sets > 0 ? huge_page_buffer(static_cast<std::size_t>(2 * sets) * plane * sizeof(Eigen::Array3f)) : nullptr;
   Eigen::Array3f* const lit_base = static_cast<Eigen::Array3f*>(lit_memory.get());
   const Eigen::Array3f* lit_front = nullptr;
   const Eigen::Array3f* lit_back = nullptr;
-  const auto lit_f = [&](std::size_t j) -> const Eigen::Array3f& { return lit_front[j]; };
-  const auto lit_b = [&](std::size_t j) -> const Eigen::Array3f& { return lit_back[j]; };
+  const auto lit_f = [&](std::size_t j, std::size_t l) -> const Eigen::Array3f& { return lit_front[j * nlight + l]; };
+  const auto lit_b = [&](std::size_t j, std::size_t l) -> const Eigen::Array3f& { return lit_back[j * nlight + l]; };
   // Pass p (from 1) filters at step stride 2^(p-1), the first from the raw light.
   const int stride = camera.sky_stride;
-  const auto filter_pass = [&](int pass, int u, int v, Eigen::Array3f& f, Eigen::Array3f& b) {
+  const auto filter_pass = [&](int pass, int u, int v, Eigen::Array3f* f, Eigen::Array3f* b) {
     const int step = stride << (pass - 1);
     if (pass == 1) filter(u, v, step, true, raw_front, raw_back, any, f, b);
     else filter(u, v, step, false, lit_f, lit_b, any, f, b);
   };
   for (int pass = 1; pass <= buffered; ++pass) {
-    Eigen::Array3f* const nf = lit_base + static_cast<std::size_t>(2 * ((pass - 1) % 2)) * npix;
-    Eigen::Array3f* const nb = nf + npix;
-    std::uninitialized_default_construct_n(nf, 2 * npix);
+    Eigen::Array3f* const nf = lit_base + static_cast<std::size_t>(2 * ((pass - 1) % 2)) * plane;
+    Eigen::Array3f* const nb = nf + plane;
+    std::uninitialized_default_construct_n(nf, 2 * plane);
     for_rows(H, [&](int r0, int r1) {
       for (int v = (r0 + stride - 1) / stride * stride; v < r1; v += stride) {
         for (int u = 0; u < W; u += stride) {
           const std::size_t i = static_cast<std::size_t>(v) * W + u;
-          filter_pass(pass, u, v, nf[i], nb[i]);
+          filter_pass(pass, u, v, nf + i * nlight, nb + i * nlight);
         }
       }
     });
     lit_front = nf, lit_back = nb;
   }
   // sky_stride 2: a pixel's light from the grid, and from its own samples.
-  const auto strided_light = [&](int u, int v, Eigen::Array3f& f, Eigen::Array3f& b) {
+  const auto strided_light = [&](int u, int v, Eigen::Array3f* f, Eigen::Array3f* b) {
     const std::size_t i = static_cast<std::size_t>(v) * W + u;
     const Pixel& c = centre[i];
+    const PixelLight* const cl = centre_lit + i * nlight;
     if (c.key < 2) {
-      f = c.front, b = c.back;
+      for (std::size_t l = 0; l < nlight; ++l) f[l] = cl[l].front, b[l] = cl[l].back;
     } else if (is_anchor(u, v)) {
-      f = lit_front[i], b = lit_back[i];
+      for (std::size_t l = 0; l < nlight; ++l) f[l] = lit_front[i * nlight + l], b[l] = lit_back[i * nlight + l];
     } else if (orphan[i]) {
       // Its own rays, filtered over the other such pixels (the anchors lend none).
       const auto own = [&](std::size_t j) { return orphan[j] != 0; };
@@ -654,30 +745,39 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
     } else {
       Tap taps[9];
       const int m = anchor_taps(u, v, taps, false);
-      float e[9];
+      float e[9], w[9];
       for (int k = 0; k < m; ++k) e[k] = std::exp(taps[k].exponent);
-      Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
       float sw = 0;
       for (int k = 0; k < m; ++k) {
-        const float w = taps[k].normal_term * e[k] * taps[k].taper;
-        sf += w * lit_front[taps[k].j], sb += w * lit_back[taps[k].j], sw += w;
+        w[k] = taps[k].normal_term * e[k] * taps[k].taper;
+        sw += w[k];
       }
-      f = c.share * sf / sw + (1 - c.share) * c.front, b = c.share * sb / sw + (1 - c.share) * c.back;
+      for (std::size_t l = 0; l < nlight; ++l) {
+        Eigen::Array3f sf = Eigen::Array3f::Zero(), sb = Eigen::Array3f::Zero();
+        for (int k = 0; k < m; ++k) {
+          const std::size_t j = taps[k].j * nlight + l;
+          sf += w[k] * lit_front[j], sb += w[k] * lit_back[j];
+        }
+        f[l] = c.share * sf / sw + (1 - c.share) * cl[l].front, b[l] = c.share * sb / sw + (1 - c.share) * cl[l].back;
+      }
     }
   };
-  RayRenderResult out;
-  out.linear.assign(3 * npix, 0.0f);
+  std::vector<RayRenderResult> out(nlight);
+  for (RayRenderResult& o : out) o.linear.assign(3 * npix, 0.0f);
   for_rows(H, [&](int r0, int r1) {
+    std::vector<Eigen::Array3f> f(nlight), b(nlight);
     for (int v = r0; v < r1; ++v) {
       for (int u = 0; u < W; ++u) {
         const std::size_t i = static_cast<std::size_t>(v) * W + u;
         const Pixel& c = centre[i];
-        Eigen::Array3f f, b;
-        if (strided) strided_light(u, v, f, b);
-        else filter_pass(camera.sky_filter, u, v, f, b);
-        const C3 px = M_PI * (c.direct.cast<double>() + c.albedo.cast<double>() * f.cast<double>() +
-                              c.trans.cast<double>() * b.cast<double>());  // radiance times pi
-        for (int ch = 0; ch < 3; ++ch) out.linear[3 * i + ch] = static_cast<float>(px[ch]);
+        if (strided) strided_light(u, v, f.data(), b.data());
+        else filter_pass(camera.sky_filter, u, v, f.data(), b.data());
+        for (std::size_t l = 0; l < nlight; ++l) {
+          const PixelLight& cl = centre_lit[i * nlight + l];
+          const C3 px = M_PI * (cl.direct.cast<double>() + c.albedo.cast<double>() * f[l].cast<double>() +
+                                c.trans.cast<double>() * b[l].cast<double>());  // radiance times pi
+          for (int ch = 0; ch < 3; ++ch) out[l].linear[3 * i + ch] = static_cast<float>(px[ch]);
+        }
       }
     }
   });
@@ -685,6 +785,7 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
   // spread over its circle of confusion, c = (f / N) f / (s - f) |z - s| / z on the
   // sensor (f / fx per pixel), gathered (a pixel takes the neighbours whose circle
   // covers it, each weighted by one over its circle's area); radius capped at 8 px.
+  // The circles depend on depth alone: their weights once, the sums per light.
   if (camera.f_number > 0) {
     const double f = focal_length, s = camera.focus_distance > 0
                                            ? camera.focus_distance
@@ -698,20 +799,21 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
       rmax = std::max(rmax, radius[i]);
     }
     if (rmax >= 0.5f) {
-      const std::vector<float> sharp = out.linear;
+      std::vector<std::vector<float>> sharp(nlight);
+      for (std::size_t l = 0; l < nlight; ++l) sharp[l] = out[l].linear;
       const int R = static_cast<int>(std::ceil(rmax));
       // Each 16 x 16 tile gathers over the largest circle within R px of it, not the
       // image's: a neighbour farther than that covers none of its pixels, so the taps
       // and their order are the same (the same bits) and in-focus tiles take 3 x 3.
-      constexpr int T = 16;
-      const int tw = (W + T - 1) / T, th = (H + T - 1) / T;
+      constexpr int T16 = 16;
+      const int tw = (W + T16 - 1) / T16, th = (H + T16 - 1) / T16;
       std::vector<float> tile_max(static_cast<std::size_t>(tw) * th, 0.5f);
       for (int v = 0; v < H; ++v)
         for (int u = 0; u < W; ++u) {
-          float& m = tile_max[static_cast<std::size_t>(v / T) * tw + u / T];
+          float& m = tile_max[static_cast<std::size_t>(v / T16) * tw + u / T16];
           m = std::max(m, radius[static_cast<std::size_t>(v) * W + u]);
         }
-      const int reach = (R + T - 1) / T;  // tiles within R px
+      const int reach = (R + T16 - 1) / T16;  // tiles within R px
       std::vector<int> tile_r(tile_max.size());
       for (int ty = 0; ty < th; ++ty)
         for (int tx = 0; tx < tw; ++tx) {
@@ -722,10 +824,12 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
           tile_r[static_cast<std::size_t>(ty) * tw + tx] = std::min(R, static_cast<int>(std::ceil(m)));
         }
       for_rows(H, [&](int r0, int r1) {
+        std::vector<double> acc(3 * nlight);
         for (int v = r0; v < r1; ++v)
           for (int u = 0; u < W; ++u) {
-            const int Rt = tile_r[static_cast<std::size_t>(v / T) * tw + u / T];
-            double acc[3] = {0, 0, 0}, sw = 0;
+            const int Rt = tile_r[static_cast<std::size_t>(v / T16) * tw + u / T16];
+            std::fill(acc.begin(), acc.end(), 0.0);
+            double sw = 0;
             for (int dv = -Rt; dv <= Rt; ++dv)
               for (int du = -Rt; du <= Rt; ++du) {
                 const int uu = u + du, vv = v + dv;
@@ -734,16 +838,18 @@ RayRenderResult ray_render(const RayRenderScene& prepared, const Camera& cam, co
                 const double r = std::max(0.5f, radius[j]);
                 if (du * du + dv * dv > r * r) continue;
                 const double w = 1 / (r * r);
-                for (int ch = 0; ch < 3; ++ch) acc[ch] += w * sharp[3 * j + ch];
+                for (std::size_t l = 0; l < nlight; ++l)
+                  for (int ch = 0; ch < 3; ++ch) acc[3 * l + ch] += w * sharp[l][3 * j + ch];
                 sw += w;
               }
             const std::size_t i = static_cast<std::size_t>(v) * W + u;
-            for (int ch = 0; ch < 3; ++ch) out.linear[3 * i + ch] = static_cast<float>(acc[ch] / sw);
+            for (std::size_t l = 0; l < nlight; ++l)
+              for (int ch = 0; ch < 3; ++ch) out[l].linear[3 * i + ch] = static_cast<float>(acc[3 * l + ch] / sw);
           }
       });
     }
   }
-  out.rays = rays;
+  for (RayRenderResult& o : out) o.rays = rays;
   return out;
 }
 

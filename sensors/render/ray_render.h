@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "sensors/camera.h"
@@ -45,6 +46,16 @@ RayRenderScene ray_render_scene(const RayScene& scene, const AppearanceParams& l
 RayRenderResult ray_render(const RayRenderScene& scene, const Camera& cam, const Illumination& light,
                            const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
                            std::uint64_t seed);
+// The same view under several lights at once, one image each, in their order: each
+// image the same to the bit as ray_render with its light alone (the draws do not
+// depend on the light). What does not depend on the light is done once: the camera
+// rays and their materials, the sky and mirror rays and what they meet, the edges, the
+// sky filter's and the defocus' weights; per light only the sun's shadow rays (from the
+// surface and from what the sky rays met) and the sums. `rays` of each result counts
+// every ray cast for them all.
+std::vector<RayRenderResult> ray_render(const RayRenderScene& scene, const Camera& cam,
+                                        std::span<const Illumination> lights, const AppearanceParams& look,
+                                        const PhotoCameraParams& camera, double focal_length, std::uint64_t seed);
 // The same for one image: the render scene built for it.
 RayRenderResult ray_render(const RayScene& scene, const Camera& cam, const Illumination& light,
                            const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,

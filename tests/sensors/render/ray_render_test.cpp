@@ -108,6 +108,51 @@ TEST(RayRender, TheImageIsTheSameAtAnyThreadCount) {
   }
 }
 
+// Several lights in one call (a sweep over seed 001's lights renders each view once):
+// each image the same to the bit as its light's alone, at 1 and 2 threads, with fewer
+// rays than the lights one by one. The lights: a sun in front, one behind, an overcast
+// sky with a dim sun, and no sun at all (no shadow rays for it).
+TEST(RayRender, SeveralLightsAtOnceGiveEachLightsOwnImageToTheBit) {
+  const RowScene s;
+  const RayRenderScene prepared = ray_render_scene(s.scene, AppearanceParams{});
+  const Vec3 c = s.scene.bunch_centre();
+  const Camera cam = camera_at(c - Vec3(0, 0.5, 0), c, 96, 72, 40);
+  std::vector<Illumination> lights(4);
+  lights[0].sun_direction = Vec3(0.3, -0.5, 0.8).normalized();
+  lights[1].sun_direction = Vec3(-0.2, 0.7, 0.6).normalized();
+  lights[2].sun_direction = Vec3(0.1, -0.3, 0.9).normalized();
+  lights[2].sun = 0.1, lights[2].sun_size_deg = 20, lights[2].sky = Illumination::Sky::Overcast;
+  lights[2].sky_irradiance = 0.5;
+  lights[3].sun = 0;
+  PhotoCameraParams p = pinhole(2);
+  p.f_number = 2.8;
+  for (const auto& [sky_filter, sky_stride] : {std::pair{1, 1}, {3, 1}, {3, 2}}) {
+    p.sky_filter = sky_filter;
+    p.sky_stride = sky_stride;
+    std::vector<RayRenderResult> one, two;
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+      one = ray_render(prepared, cam, lights, AppearanceParams{}, p, 0.006, 7);
+    }
+    {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+      two = ray_render(prepared, cam, lights, AppearanceParams{}, p, 0.006, 7);
+    }
+    ASSERT_EQ(one.size(), lights.size());
+    std::uint64_t alone = 0;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+      const RayRenderResult single = ray_render(prepared, cam, lights[l], AppearanceParams{}, p, 0.006, 7);
+      EXPECT_EQ(one[l].linear, single.linear) << "light " << l << ", sky_filter " << sky_filter << ", sky_stride " << sky_stride;
+      EXPECT_EQ(two[l].linear, single.linear) << "light " << l << ", 2 threads";
+      alone += single.rays;
+    }
+    EXPECT_NE(one[0].linear, one[1].linear);
+    EXPECT_NE(one[2].linear, one[3].linear);
+    // The camera, sky and mirror rays once: fewer than half the rays one by one here.
+    EXPECT_LT(2 * one[0].rays, alone) << one[0].rays << " at once against " << alone;
+  }
+}
+
 // More sky rays a pixel (`sky_samples`) lower the sky light's Monte Carlo noise, the
 // blotches that differ between a pair's two images (docs/seed004.md), without moving
 // the image's mean. The variance between two seeds' images is a + b / K: the glossy
