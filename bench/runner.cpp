@@ -28,6 +28,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -56,6 +57,37 @@ std::vector<CaseRef> all_cases(const SceneSet& set, const fs::path& out) {
     }
   }
   return refs;
+}
+
+// Pending cases computed together: one bunch under conditions whose scenes differ only
+// in sensors sharing a together_key (seed 001's sweep over the `ray` renderer's light:
+// each pair rendered once for the three lights, sensors/render/ray_render.h), with a
+// protocol that runs cases together; every other case alone. Ordered by their first.
+std::vector<std::vector<std::size_t>> together_groups(const SceneSet& set, const std::vector<CaseRef>& refs,
+                                                      const std::vector<std::size_t>& pending) {
+  std::vector<std::string> key(set.conditions.size());
+  for (std::size_t c = 0; c < set.conditions.size(); ++c) {
+    const Scene& s = set.conditions[c].scene;
+    if (!s.sensor || !protocol_runs_together(s.protocol)) continue;
+    const std::string t = s.sensor->together_key();
+    if (t.empty()) continue;
+    nlohmann::ordered_json j = scene_json(s);
+    j["sensor"] = t;
+    key[c] = j.dump();
+  }
+  std::map<std::pair<std::string, int>, std::size_t> at;  // (key, bunch) -> its group
+  std::vector<std::vector<std::size_t>> groups;
+  for (const std::size_t i : pending) {
+    const std::string& k = key[static_cast<std::size_t>(refs[i].condition)];
+    if (k.empty()) {
+      groups.push_back({i});
+      continue;
+    }
+    const auto [it, fresh] = at.try_emplace({k, refs[i].job.index}, groups.size());
+    if (fresh) groups.push_back({i});
+    else groups[it->second].push_back(i);
+  }
+  return groups;
 }
 
 // What was found at a case's place.
@@ -262,9 +294,8 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   std::atomic<int> computed{0};
   std::mutex busy_mutex;
   std::vector<std::size_t> busy;  // claimed by another run on this folder: waited for after ours
-  const auto compute = [&](std::size_t i) {
+  const auto finish = [&](std::size_t i, CaseResult r) {
     const CaseRef& ref = refs[i];
-    CaseResult r = run_case(set.conditions[static_cast<std::size_t>(ref.condition)], ref.condition, ref.job);
     // Written atomically as soon as it is done: an interrupted run resumes from here.
     write_file_atomic(ref.file, case_to_json(r).dump(1) + "\n");
     const std::string detail = "condition " + std::to_string(r.condition) + ", bunch " + std::to_string(r.bunch);
@@ -274,27 +305,49 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
     const int done = ++computed;
     if (o.on_case) o.on_case(done, static_cast<int>(pending.size()), detail, failed);
   };
+  const auto compute = [&](std::size_t i) {
+    const CaseRef& ref = refs[i];
+    finish(i, run_case(set.conditions[static_cast<std::size_t>(ref.condition)], ref.condition, ref.job));
+  };
+  const auto compute_together = [&](const std::vector<std::size_t>& group) {
+    std::vector<const Condition*> conditions;
+    std::vector<int> indices;
+    for (const std::size_t i : group) {
+      conditions.push_back(&set.conditions[static_cast<std::size_t>(refs[i].condition)]);
+      indices.push_back(refs[i].condition);
+    }
+    std::vector<CaseResult> r = run_cases_together(conditions, indices, refs[group.front()].job);
+    for (std::size_t k = 0; k < group.size(); ++k) finish(group[k], std::move(r[k]));
+  };
   // Claimed, a case is looked for again: another run may have finished it since
   // (`waited`: we waited for the run that held it; even --no-resume takes its result).
-  const auto claimed = [&](std::size_t i, bool waited) {
+  const auto to_compute = [&](std::size_t i, bool waited) {
     if (o.resume || waited) look(i, false);
-    if (results[i]) {
-      progress.done("condition " + std::to_string(refs[i].condition) + ", bunch " + std::to_string(refs[i].job.index) +
-                        " (finished by another run)",
-                    false);
-    } else {
-      compute(i);
-    }
+    if (!results[i]) return true;
+    progress.done("condition " + std::to_string(refs[i].condition) + ", bunch " + std::to_string(refs[i].job.index) +
+                      " (finished by another run)",
+                  false);
+    return false;
   };
-  tbb::parallel_for(std::size_t{0}, pending.size(), std::size_t{1}, [&](std::size_t p) {
-    const std::size_t i = pending[p];
-    const CaseClaim claim(refs[i].file, false);
-    if (claim.held()) {
-      claimed(i, false);
-    } else {
-      const std::lock_guard<std::mutex> lock(busy_mutex);
-      busy.push_back(i);
+  const auto claimed = [&](std::size_t i, bool waited) {
+    if (to_compute(i, waited)) compute(i);
+  };
+  const auto groups = together_groups(set, refs, pending);
+  tbb::parallel_for(std::size_t{0}, groups.size(), std::size_t{1}, [&](std::size_t g) {
+    std::vector<std::unique_ptr<CaseClaim>> claims;  // held until the group is computed
+    std::vector<std::size_t> mine;
+    for (const std::size_t i : groups[g]) {
+      auto claim = std::make_unique<CaseClaim>(refs[i].file, false);
+      if (!claim->held()) {
+        const std::lock_guard<std::mutex> lock(busy_mutex);
+        busy.push_back(i);
+      } else if (to_compute(i, false)) {
+        mine.push_back(i);
+        claims.push_back(std::move(claim));
+      }
     }
+    if (mine.size() == 1) compute(mine.front());
+    else if (!mine.empty()) compute_together(mine);
   });
   std::sort(busy.begin(), busy.end());
   tbb::parallel_for(std::size_t{0}, busy.size(), std::size_t{1}, [&](std::size_t b) {

@@ -41,6 +41,28 @@ Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, con
   return scan;
 }
 
+void scan_views_together(const RayScene& scene, std::span<const Sensor* const> sensors, const Rig& rig,
+                         const BackgroundSpec& background, std::uint64_t seed,
+                         const std::function<void(std::vector<ScanView>&&, std::size_t k)>& consume) {
+  if (sensors.empty()) return;
+  const Sensor& first = *sensors.front();
+  const auto views = rig.views(scene.bunch_centre(), scene.bunch_radius(), background);
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<OrganisedCloud> clouds =
+        first.capture_together(sensors, scene.with_background(views[k].background), views[k].pose, derive_seed(seed, k));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<ScanView> out(sensors.size());
+    for (std::size_t s = 0; s < sensors.size(); ++s) {
+      out[s].rig = views[k];
+      out[s].camera = Camera{sensors[s]->intrinsics(), views[k].pose};
+      out[s].cloud = std::move(clouds.at(s));
+      out[s].seconds = seconds / static_cast<double>(sensors.size());
+    }
+    consume(std::move(out), k);
+  }
+}
+
 Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
                 std::uint64_t seed) {
   std::vector<ScanView> views;

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,13 @@ Scan scan_description(const Sensor& sensor, const Rig& rig, const BackgroundSpec
 // background, seed) without views.
 Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
                 std::uint64_t seed, const std::function<void(ScanView&&, std::size_t k)>& consume);
+// The same views by several sensors with one together_key (Sensor::capture_together):
+// `consume` gets view k's frames, one a sensor in their order, each the same as
+// scan_views gives it with that sensor; `seconds` is the shared capture's time over the
+// sensors' count.
+void scan_views_together(const RayScene& scene, std::span<const Sensor* const> sensors, const Rig& rig,
+                         const BackgroundSpec& background, std::uint64_t seed,
+                         const std::function<void(std::vector<ScanView>&&, std::size_t k)>& consume);
 
 // Files of one view: organised binary PCD (x y z rgb normal label berry, NaN where
 // invalid; points in the sensor frame, VIEWPOINT the camera-to-world pose, so PCL and

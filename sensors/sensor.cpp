@@ -7,6 +7,14 @@
 
 namespace grapebench {
 
+std::vector<OrganisedCloud> Sensor::capture_together(std::span<const Sensor* const> sensors, const RayScene& scene,
+                                                     const Eigen::Isometry3d& pose, std::uint64_t seed) const {
+  std::vector<OrganisedCloud> out;
+  out.reserve(sensors.size());
+  for (const Sensor* s : sensors) out.push_back(s->capture(scene, pose, seed));
+  return out;
+}
+
 BunchPixels bunch_pixels(const RayScene& scene, const Camera& cam) {
   BunchPixels b;
   b.visible = scene.has_bunch() && cam.ball_pixels(scene.bounds_centre(), scene.bounds_radius(), b.u0, b.v0, b.u1, b.v1);

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,15 @@ class Sensor {
                                  std::uint64_t seed) const = 0;
   // All parameters with their values, for the manifest.
   virtual nlohmann::ordered_json describe() const = 0;
+  // Sensors whose keys are equal and not empty take the same frames but for what the
+  // key leaves out (stereo_rgb's `ray` renderer: the light), and capture_together
+  // gives them faster than one by one (a sweep over seed 001's lights). Empty, the
+  // default: each is captured alone.
+  virtual std::string together_key() const { return {}; }
+  // The frames of one view by `sensors` (each with this one's together_key), in their
+  // order, each the same as its own capture(). The default captures them in turn.
+  virtual std::vector<OrganisedCloud> capture_together(std::span<const Sensor* const> sensors, const RayScene& scene,
+                                                       const Eigen::Isometry3d& pose, std::uint64_t seed) const;
 };
 
 

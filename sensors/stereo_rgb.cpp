@@ -169,35 +169,56 @@ Intrinsics StereoRgb::intrinsics() const {
   return k;
 }
 
-OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const {
-  const Camera left{intrinsics(), pose};
+namespace {
+
+// The pair's cameras: the left at `pose`, the right `baseline` along its x axis.
+std::pair<Camera, Camera> stereo_cameras(const Intrinsics& k, const Eigen::Isometry3d& pose, double baseline) {
   Eigen::Isometry3d right_pose = pose;
-  right_pose.translation() = pose * Vec3(p_.baseline, 0, 0);
-  const Camera right{intrinsics(), right_pose};
+  right_pose.translation() = pose * Vec3(baseline, 0, 0);
+  return {Camera{k, pose}, Camera{k, right_pose}};
+}
+
+// The renderers' draws: the scene's, or redrawn with noise_seed.
+std::uint64_t photo_seed(const StereoRgbParams& p, std::uint64_t seed) {
+  return p.noise_seed != 0 ? derive_seed(seed, 0x5eed0000ull + static_cast<std::uint64_t>(p.noise_seed)) : seed;
+}
+
+// The exact frame `out` with the pair developed from linear images `l` and `r` (r
+// empty without a right image); `seed` as photo_seed gives it.
+void develop_pair(OrganisedCloud& out, const StereoRgbParams& p, const Camera& left, const Camera& right,
+                  const std::vector<float>& l, const std::vector<float>& r, std::uint64_t seed) {
+  // A synchronised pair: the right camera takes the left's exposure.
+  const DevelopResult dl = develop_image(l, left.K, p.camera, derive_seed(seed, 2));
+  out.baseline = p.baseline;
+  out.left_image = dl.rgb;
+  out.left_jpeg = dl.jpeg;
+  if (p.right_image) out.right_image = develop_image(r, right.K, p.camera, derive_seed(seed, 3), dl.gain).rgb;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (out.valid[i]) out.rgb[i] = {out.left_image[3 * i], out.left_image[3 * i + 1], out.left_image[3 * i + 2]};
+  }
+}
+
+// The keys of the light, left out of together_key.
+constexpr const char* kLightKeys[] = {"light", "sun_elevation_deg", "sun_azimuth_deg", "sun", "ambient", "backdrop", "sun_size_deg"};
+
+}  // namespace
+
+OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const {
+  if (p_.renderer == StereoRgbParams::Renderer::Ray) {
+    const Sensor* self = this;
+    return std::move(capture_together(std::span<const Sensor* const>(&self, 1), scene, pose, seed)[0]);
+  }
+  const auto [left, right] = stereo_cameras(intrinsics(), pose, p_.baseline);
   OrganisedCloud out = capture_exact(scene, left);
-  if (p_.renderer != StereoRgbParams::Renderer::OpenGl) {
+  if (p_.renderer == StereoRgbParams::Renderer::Cycles) {
     const Illumination light = stereo_rgb_illumination(p_, pose);
     const double f = p_.focal_length_mm * 1e-3;
-    if (p_.noise_seed != 0) seed = derive_seed(seed, 0x5eed0000ull + static_cast<std::uint64_t>(p_.noise_seed));
+    seed = photo_seed(p_, seed);
     std::vector<float> l, r;
-    if (p_.renderer == StereoRgbParams::Renderer::Cycles) {
-      const TempFolder work("grapebench-cycles");
-      l = cycles_render(scene, left, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 4), work.path / "left").linear;
-      if (p_.right_image) r = cycles_render(scene, right, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 5), work.path / "right").linear;
-    } else {
-      const RayRenderScene rows = ray_render_scene(scene, p_.appearance);  // once for the pair
-      l = ray_render(rows, left, light, p_.appearance, p_.camera, f, derive_seed(seed, 4)).linear;
-      if (p_.right_image) r = ray_render(rows, right, light, p_.appearance, p_.camera, f, derive_seed(seed, 5)).linear;
-    }
-    // A synchronised pair: the right camera takes the left's exposure.
-    const DevelopResult dl = develop_image(l, left.K, p_.camera, derive_seed(seed, 2));
-    out.baseline = p_.baseline;
-    out.left_image = dl.rgb;
-    out.left_jpeg = dl.jpeg;
-    if (p_.right_image) out.right_image = develop_image(r, right.K, p_.camera, derive_seed(seed, 3), dl.gain).rgb;
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      if (out.valid[i]) out.rgb[i] = {out.left_image[3 * i], out.left_image[3 * i + 1], out.left_image[3 * i + 2]};
-    }
+    const TempFolder work("grapebench-cycles");
+    l = cycles_render(scene, left, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 4), work.path / "left").linear;
+    if (p_.right_image) r = cycles_render(scene, right, light, p_.appearance, p_.camera, f, p_.cycles, derive_seed(seed, 5), work.path / "right").linear;
+    develop_pair(out, p_, left, right, l, r, seed);
     return out;
   }
 
@@ -384,6 +405,41 @@ OrganisedCloud StereoRgb::capture(const RayScene& scene, const Eigen::Isometry3d
 }
 
 nlohmann::ordered_json StereoRgb::describe() const { return with_type(type(), stereo_rgb_param_table().to_json(p_)); }
+
+std::string StereoRgb::together_key() const {
+  if (p_.renderer != StereoRgbParams::Renderer::Ray) return {};
+  nlohmann::ordered_json j = describe();
+  for (const char* k : kLightKeys) j.erase(k);
+  return j.dump();
+}
+
+std::vector<OrganisedCloud> StereoRgb::capture_together(std::span<const Sensor* const> sensors, const RayScene& scene,
+                                                        const Eigen::Isometry3d& pose, std::uint64_t seed) const {
+  if (p_.renderer != StereoRgbParams::Renderer::Ray) return Sensor::capture_together(sensors, scene, pose, seed);
+  const std::string key = together_key();
+  std::vector<Illumination> lights;
+  for (const Sensor* s : sensors) {
+    const auto* rgb = dynamic_cast<const StereoRgb*>(s);
+    if (rgb == nullptr || rgb->together_key() != key)
+      throw std::logic_error("stereo_rgb: capture_together of sensors that differ in more than their light");
+    lights.push_back(stereo_rgb_illumination(rgb->p_, pose));
+  }
+  const auto [left, right] = stereo_cameras(intrinsics(), pose, p_.baseline);
+  const double f = p_.focal_length_mm * 1e-3;
+  seed = photo_seed(p_, seed);
+  const RayRenderScene rows = ray_render_scene(scene, p_.appearance);  // once for the pair
+  const std::vector<RayRenderResult> l = ray_render(rows, left, lights, p_.appearance, p_.camera, f, derive_seed(seed, 4));
+  std::vector<RayRenderResult> r;
+  if (p_.right_image) r = ray_render(rows, right, lights, p_.appearance, p_.camera, f, derive_seed(seed, 5));
+  OrganisedCloud exact = capture_exact(scene, left);  // the labels' rays: the same under every light
+  std::vector<OrganisedCloud> out;
+  out.reserve(lights.size());
+  for (std::size_t k = 0; k < lights.size(); ++k) {
+    out.push_back(k + 1 < lights.size() ? exact : std::move(exact));
+    develop_pair(out.back(), p_, left, right, l[k].linear, p_.right_image ? r[k].linear : std::vector<float>{}, seed);
+  }
+  return out;
+}
 
 Illumination stereo_rgb_illumination(const StereoRgbParams& p, const Eigen::Isometry3d& pose) {
   const SunLight sl = sun_light(p);

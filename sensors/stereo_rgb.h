@@ -80,6 +80,13 @@ class StereoRgb : public Sensor {
   Intrinsics intrinsics() const override;
   OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override;
   nlohmann::ordered_json describe() const override;
+  // renderer ray: every key but the light's (light, the custom sun and sky, the sun's
+  // size); the others: none (captured alone).
+  std::string together_key() const override;
+  // renderer ray: the pair under each sensor's light from one ray_render call per
+  // camera (sensors/render/ray_render.h) and one exact label image.
+  std::vector<OrganisedCloud> capture_together(std::span<const Sensor* const> sensors, const RayScene& scene,
+                                               const Eigen::Isometry3d& pose, std::uint64_t seed) const override;
   // Its parameters: what the dataset writer needs to label the scene its images show.
   const StereoRgbParams& params() const { return p_; }
 

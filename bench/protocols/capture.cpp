@@ -80,4 +80,49 @@ CaseResult measure_views(const Condition& condition, int condition_index, const 
   });
 }
 
+std::vector<CaseResult> measure_views_together(std::span<const Condition* const> conditions,
+                                               std::span<const int> condition_indices, const BunchJob& job,
+                                               const ViewsMeasure& measure) {
+  const std::size_t n = conditions.size();
+  std::vector<CaseResult> r;
+  for (std::size_t c = 0; c < n; ++c) r.push_back(new_case(*conditions[c], condition_indices[c], job));
+  std::vector<char> failed(n, 0);
+  const auto fail = [&](std::size_t c, const std::exception& e) {
+    failed[c] = 1;
+    r[c].ok = false;
+    r[c].error = escape_invalid_utf8(e.what());
+  };
+  try {
+    const Scene& scene = conditions.front()->scene;
+    std::vector<const Sensor*> sensors;
+    for (const Condition* c : conditions) {
+      if (!c->scene.sensor || !c->scene.rig) throw InputError(c->scene.path + ": a run needs `sensor:` and `rig:` sections");
+      sensors.push_back(c->scene.sensor.get());
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const CaptureScene cs = capture_scene(scene, job);
+    const double build = seconds_since(t0) / static_cast<double>(n);
+    for (CaseResult& x : r) x.scan_seconds = build, x.views = 0;
+    scan_views_together(cs.rays, sensors, *scene.rig, scene.background, scan_seed(job),
+                        [&](std::vector<ScanView>&& views, std::size_t k) {
+                          for (std::size_t c = 0; c < n; ++c) {
+                            if (failed[c]) continue;  // as measure_views: no view after the one that failed
+                            r[c].scan_seconds += views[c].seconds;
+                            ++r[c].views;
+                            try {
+                              measure(c, cs.bunch, cs.truth, views[c], k, r[c]);
+                            } catch (const std::exception& e) {
+                              fail(c, e);
+                            }
+                          }
+                        });
+    for (std::size_t c = 0; c < n; ++c) r[c].ok = !failed[c];
+  } catch (const std::exception& e) {
+    for (std::size_t c = 0; c < n; ++c) {
+      if (!failed[c]) fail(c, e);
+    }
+  }
+  return r;
+}
+
 }  // namespace grapebench

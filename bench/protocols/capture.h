@@ -39,5 +39,16 @@ CaseResult guarded_case(const Condition& condition, int condition_index, const B
 using ViewMeasure = std::function<void(const Bunch&, const GroundTruth&, const ScanView&, std::size_t k, CaseResult&)>;
 CaseResult measure_views(const Condition& condition, int condition_index, const BunchJob& job,
                          const ViewMeasure& measure, const std::function<void(CaseResult&)>& finish = {});
+// The same for one bunch under several conditions at once (protocols' CasesRun): the
+// bunch, truth and ray scene once (the first condition's scene: they differ in their
+// sensors alone), each view captured once for all (scan_views_together) and measured
+// per condition (`measure`, condition c of the span). A failed capture fails every
+// case; a measure that throws fails its own and the others go on. scan_seconds: the
+// bunch's and the captures' time over the conditions' count.
+using ViewsMeasure = std::function<void(std::size_t c, const Bunch&, const GroundTruth&, const ScanView&, std::size_t k,
+                                        CaseResult&)>;
+std::vector<CaseResult> measure_views_together(std::span<const Condition* const> conditions,
+                                               std::span<const int> condition_indices, const BunchJob& job,
+                                               const ViewsMeasure& measure);
 
 }  // namespace grapebench

@@ -14,9 +14,11 @@ namespace {
 // says which key each protocol reads), so their registry lines carry none.
 struct NoKeys {};
 
-RegistryEntry<ProtocolRun> protocol(std::string type, std::string summary, ProtocolRun run) {
+RegistryEntry<ProtocolRun> protocol(std::string type, std::string summary, CaseRun run, CasesRun together = {}) {
   return entry<ProtocolRun>(std::move(type), std::move(summary), ParamTable<NoKeys>(), NoKeys{},
-                            [run](const NoKeys&, const ConfigNode&) { return run; });
+                            [run = ProtocolRun{std::move(run), std::move(together)}](const NoKeys&, const ConfigNode&) {
+                              return run;
+                            });
 }
 
 }  // namespace
@@ -33,7 +35,7 @@ const Registry<ProtocolRun>& protocol_registry() {
           protocol("stereo_pair",
                    "per station: one rectified colour stereo pair; cutting point, berries, cluster region, bounding "
                    "volume scored against the exact scene (seed 001)",
-                   run_stereo_pair),
+                   run_stereo_pair, run_stereo_pair_together),
           protocol("classification",
                    "a vine-row section, a camera pass made into one coloured cloud, a training and a separate test "
                    "part; class scores per test point rated against the exact labels (seed 004)",

@@ -269,4 +269,13 @@ CaseResult run_stereo_pair(const Condition& condition, int condition_index, cons
                            CaseResult& r) { measure_pair(condition.scene, view, k, bunch, truth, r); });
 }
 
+std::vector<CaseResult> run_stereo_pair_together(std::span<const Condition* const> conditions,
+                                                 std::span<const int> condition_indices, const BunchJob& job) {
+  return measure_views_together(conditions, condition_indices, job,
+                                [&](std::size_t c, const Bunch& bunch, const GroundTruth& truth, const ScanView& view,
+                                    std::size_t k, CaseResult& r) {
+                                  measure_pair(conditions[c]->scene, view, k, bunch, truth, r);
+                                });
+}
+
 }  // namespace grapebench

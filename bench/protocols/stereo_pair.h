@@ -66,5 +66,9 @@ void measure_pair(const Scene& scene, const ScanView& view, std::size_t k, const
                   CaseResult& r);
 
 CaseResult run_stereo_pair(const Condition& condition, int condition_index, const BunchJob& job);
+// The same for one bunch under conditions that differ only in the sensor's light
+// (renderer ray): each pair rendered once for all the lights (ProtocolRun::run_together).
+std::vector<CaseResult> run_stereo_pair_together(std::span<const Condition* const> conditions,
+                                                 std::span<const int> condition_indices, const BunchJob& job);
 
 }  // namespace grapebench

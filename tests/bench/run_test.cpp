@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "bench/bench_compare.h"
@@ -936,6 +937,71 @@ estimators:
   const RunOutcome again = run_scene_set(set, quiet(a, 2));
   EXPECT_EQ(again.reused, 2);
   EXPECT_EQ(slurp(a / "results.csv"), slurp(b / "results.csv"));
+}
+
+// A sweep over the `ray` renderer's light renders each pair once for all the lights
+// (bench/runner.cpp's groups, StereoRgb::capture_together): every row the same as when
+// each light's scene runs alone, and the cases of one bunch share one capture time
+// (the sign they ran as a group).
+TEST(Run, ALightSweepOnTheRayRendererScoresAsEachLightAlone) {
+  const std::string head = R"(seed: 8
+protocol: stereo_pair
+bunches:
+  - preset: table-red
+    count: 2
+sensor: {type: stereo_rgb, renderer: ray, width: 200, height: 150, pixel_pitch_um: 24, camera: {samples: 2}, light: )";
+  const std::string tail = R"(}
+rig:
+  type: stereo_stations
+  distances: [0.6]
+estimators:
+  - {type: luo2016_stereo, segmentation: {component: cr}}
+)";
+  const fs::path swept = fresh_dir("light_sweep");
+  run_scene_set(parse_scene_set("name: light_sweep\n" + head + "front" + tail + "sweep:\n  sensor.light: [front, overcast]\n",
+                                "light_sweep.yaml"),
+                quiet(swept, 2));
+  // The rows from `bunch` on, of lines whose first fields (scene, condition and, swept,
+  // the light) are skipped, the swept ones of `light` alone.
+  const auto rows = [](const std::string& csv, int skip, const std::string& light) {
+    std::vector<std::string> out;
+    std::istringstream in(csv);
+    std::string line;
+    std::getline(in, line);  // the header
+    while (std::getline(in, line)) {
+      std::size_t at = 0;
+      std::string third;
+      for (int k = 0; k < skip; ++k) {
+        const std::size_t next = line.find(',', at);
+        if (k == 2) third = line.substr(at, next - at);
+        at = next + 1;
+      }
+      if (light.empty() || third == light) out.push_back(line.substr(at));
+    }
+    return out;
+  };
+  const std::string all = slurp(swept / "results.csv");
+  for (const std::string light : {"front", "overcast"}) {
+    const fs::path alone = fresh_dir("light_alone_" + light);
+    run_scene_set(parse_scene_set("name: light_alone\n" + head + light + tail, "light_alone.yaml"), quiet(alone, 1));
+    const std::vector<std::string> mine = rows(all, 3, light);
+    EXPECT_FALSE(mine.empty()) << light;
+    EXPECT_EQ(mine, rows(slurp(alone / "results.csv"), 2, "")) << light;
+  }
+  // timings.csv: scene, condition, bunch, estimator, seconds, peak_heap_mb, scan_seconds.
+  std::map<std::string, std::set<std::string>> scan_seconds;  // bunch -> its cases' scan_seconds
+  std::istringstream in(slurp(swept / "timings.csv"));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    ASSERT_GE(f.size(), 7u) << line;
+    scan_seconds[f[2]].insert(f[6]);
+  }
+  ASSERT_EQ(scan_seconds.size(), 2u);
+  for (const auto& [bunch, seconds] : scan_seconds) EXPECT_EQ(seconds.size(), 1u) << "bunch " << bunch;
 }
 
 // A small seed 004 row section (2 vines, 1 bunch each), ideal pass; estimators follow.

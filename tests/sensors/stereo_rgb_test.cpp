@@ -210,6 +210,61 @@ TEST(StereoRgb, TheRayRenderersKeysAreCheckedWithTheirRanges) {
   EXPECT_EQ(error_of("type: stereo_rgb\nrenderer: ray\nlight: overcast\ncamera: {jpeg_quality: 90, samples: 1}\n"), "");
 }
 
+// Seed 001's lights captured together (a sweep over the `ray` renderer's light renders
+// each pair once): each pair the same to the bit as its sensor's own capture, the
+// labels too. Only sensors that differ in their light alone share a together_key.
+TEST(StereoRgb, TheRayRenderersPairsUnderSeveralLightsAreEachLightsOwn) {
+  const Bunch b = generate_bunch(preset("table-red"), 4);
+  const RayScene scene(b, std::nullopt, generate_foliage(FoliageParams{}, b, 9));
+  StereoRgbParams p;
+  p.renderer = StereoRgbParams::Renderer::Ray;
+  p.width = 160;
+  p.height = 120;
+  p.pixel_pitch_um = 30;
+  p.camera.samples = 2;
+  std::vector<StereoRgb> rigs;
+  for (const auto l : {StereoRgbParams::Light::Front, StereoRgbParams::Light::Overshadow, StereoRgbParams::Light::Overcast}) {
+    p.light = l;
+    rigs.emplace_back(p);
+  }
+  p.light = StereoRgbParams::Light::Custom;
+  p.sun_azimuth_deg = 90, p.sun_size_deg = 2;
+  rigs.emplace_back(p);
+  std::vector<const Sensor*> sensors;
+  for (const StereoRgb& r : rigs) {
+    EXPECT_EQ(r.together_key(), rigs.front().together_key());
+    sensors.push_back(&r);
+  }
+  const Vec3 c = scene.bunch_centre();
+  const auto pose = look_at(c - Vec3(0, 0.6, 0), c);
+  const std::vector<OrganisedCloud> together = rigs.front().capture_together(sensors, scene, pose, 3);
+  ASSERT_EQ(together.size(), rigs.size());
+  for (std::size_t k = 0; k < rigs.size(); ++k) {
+    const OrganisedCloud alone = rigs[k].capture(scene, pose, 3);
+    EXPECT_EQ(together[k].left_image, alone.left_image) << "light " << k;
+    EXPECT_EQ(together[k].right_image, alone.right_image) << "light " << k;
+    EXPECT_EQ(together[k].left_jpeg, alone.left_jpeg) << "light " << k;
+    std::size_t other = 0;  // labels, validity, and colours where valid (the cloud's only defined ones)
+    for (std::size_t i = 0; i < alone.size(); ++i)
+      other += together[k].valid[i] != alone.valid[i] || together[k].label[i] != alone.label[i] ||
+               (alone.valid[i] && together[k].rgb[i] != alone.rgb[i]);
+    EXPECT_EQ(other, 0u) << "light " << k;
+  }
+  EXPECT_NE(together[0].left_image, together[2].left_image);
+  // Anything but the light keeps sensors apart; OpenGL's are captured alone.
+  StereoRgbParams q = p;
+  q.camera.auto_target = 0.3;
+  EXPECT_NE(StereoRgb(q).together_key(), rigs.front().together_key());
+  q = p;
+  q.baseline = 0.06;
+  EXPECT_NE(StereoRgb(q).together_key(), rigs.front().together_key());
+  q = p;
+  q.renderer = StereoRgbParams::Renderer::OpenGl;
+  EXPECT_EQ(StereoRgb(q).together_key(), "");
+  q.renderer = StereoRgbParams::Renderer::Cycles;
+  EXPECT_EQ(StereoRgb(q).together_key(), "");
+}
+
 // The whole pair through the ray renderer and the camera chain: the same bytes at 1
 // and 2 threads; the left image's colours are the cloud's.
 TEST(StereoRgb, TheRayRenderedPairIsTheSameAtAnyThreadCount) {
