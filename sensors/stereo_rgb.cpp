@@ -429,14 +429,14 @@ std::vector<OrganisedCloud> StereoRgb::capture_together(std::span<const Sensor* 
   seed = photo_seed(p_, seed);
   const RayRenderScene rows = ray_render_scene(scene, p_.appearance);  // once for the pair
   const std::vector<RayRenderResult> l = ray_render(rows, left, lights, p_.appearance, p_.camera, f, derive_seed(seed, 4));
-  std::vector<RayRenderResult> r;
+  std::vector<RayRenderResult> r(lights.size());  // empty images without a right camera
   if (p_.right_image) r = ray_render(rows, right, lights, p_.appearance, p_.camera, f, derive_seed(seed, 5));
   OrganisedCloud exact = capture_exact(scene, left);  // the labels' rays: the same under every light
   std::vector<OrganisedCloud> out;
   out.reserve(lights.size());
   for (std::size_t k = 0; k < lights.size(); ++k) {
     out.push_back(k + 1 < lights.size() ? exact : std::move(exact));
-    develop_pair(out.back(), p_, left, right, l[k].linear, p_.right_image ? r[k].linear : std::vector<float>{}, seed);
+    develop_pair(out.back(), p_, left, right, l[k].linear, r[k].linear, seed);
   }
   return out;
 }

@@ -222,6 +222,7 @@ TEST(StereoRgb, TheRayRenderersPairsUnderSeveralLightsAreEachLightsOwn) {
   p.height = 120;
   p.pixel_pitch_um = 30;
   p.camera.samples = 2;
+  p.camera.jpeg_quality = 90;  // the camera's JPEG file too
   std::vector<StereoRgb> rigs;
   for (const auto l : {StereoRgbParams::Light::Front, StereoRgbParams::Light::Overshadow, StereoRgbParams::Light::Overcast}) {
     p.light = l;
@@ -243,6 +244,7 @@ TEST(StereoRgb, TheRayRenderersPairsUnderSeveralLightsAreEachLightsOwn) {
     const OrganisedCloud alone = rigs[k].capture(scene, pose, 3);
     EXPECT_EQ(together[k].left_image, alone.left_image) << "light " << k;
     EXPECT_EQ(together[k].right_image, alone.right_image) << "light " << k;
+    EXPECT_FALSE(alone.left_jpeg.empty());
     EXPECT_EQ(together[k].left_jpeg, alone.left_jpeg) << "light " << k;
     std::size_t other = 0;  // labels, validity, and colours where valid (the cloud's only defined ones)
     for (std::size_t i = 0; i < alone.size(); ++i)
