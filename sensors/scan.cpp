@@ -27,18 +27,11 @@ Scan scan_description(const Sensor& sensor, const Rig& rig, const BackgroundSpec
 
 Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
                 std::uint64_t seed, const std::function<void(ScanView&&, std::size_t k)>& consume) {
-  Scan scan = scan_description(sensor, rig, background, seed);
-  const auto views = rig.views(scene.bunch_centre(), scene.bunch_radius(), background);
-  for (std::size_t k = 0; k < views.size(); ++k) {
-    ScanView v;
-    v.rig = views[k];
-    v.camera = Camera{sensor.intrinsics(), views[k].pose};
-    const auto t0 = std::chrono::steady_clock::now();
-    v.cloud = sensor.capture(scene.with_background(views[k].background), views[k].pose, derive_seed(seed, k));
-    v.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    consume(std::move(v), k);
-  }
-  return scan;
+  // The one-sensor case of scan_views_together (capture_together of one sensor is its capture).
+  const Sensor* const one = &sensor;
+  scan_views_together(scene, std::span<const Sensor* const>(&one, 1), rig, background, seed,
+                      [&](std::vector<ScanView>&& views, std::size_t k) { consume(std::move(views.at(0)), k); });
+  return scan_description(sensor, rig, background, seed);
 }
 
 void scan_views_together(const RayScene& scene, std::span<const Sensor* const> sensors, const Rig& rig,

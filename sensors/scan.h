@@ -38,9 +38,9 @@ Scan scan_description(const Sensor& sensor, const Rig& rig, const BackgroundSpec
 Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
                 std::uint64_t seed, const std::function<void(ScanView&&, std::size_t k)>& consume);
 // The same views by several sensors with one together_key (Sensor::capture_together):
-// `consume` gets view k's frames, one a sensor in their order, each the same as
-// scan_views gives it with that sensor; `seconds` is the shared capture's time over the
-// sensors' count.
+// `consume` gets view k's frames, one a sensor in their order, each the same as that
+// sensor's capture alone; `seconds` is the shared capture's time over the sensors'
+// count. scan_views is its one-sensor case.
 void scan_views_together(const RayScene& scene, std::span<const Sensor* const> sensors, const Rig& rig,
                          const BackgroundSpec& background, std::uint64_t seed,
                          const std::function<void(std::vector<ScanView>&&, std::size_t k)>& consume);

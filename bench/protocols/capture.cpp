@@ -23,9 +23,9 @@ CaptureScene capture_scene(const Scene& scene, const BunchJob& job) {
   return {std::move(bunch), std::move(truth), std::move(rays)};
 }
 
-std::uint64_t scan_seed(const BunchJob& job) { return derive_seed(job.seed, 0x5ca9); }
-
 }  // namespace
+
+std::uint64_t scan_seed(const BunchJob& job) { return derive_seed(job.seed, 0x5ca9); }
 
 CaseCapture capture_case(const Scene& scene, const BunchJob& job) {
   CaptureScene c = capture_scene(scene, job);
@@ -65,19 +65,23 @@ CaseResult guarded_case(const Condition& condition, int condition_index, const B
 
 CaseResult measure_views(const Condition& condition, int condition_index, const BunchJob& job,
                          const ViewMeasure& measure, const std::function<void(CaseResult&)>& finish) {
-  return guarded_case(condition, condition_index, job, [&](CaseResult& r) {
-    const Scene& scene = condition.scene;
-    const auto t0 = std::chrono::steady_clock::now();
-    const CaptureScene c = capture_scene(scene, job);
-    r.scan_seconds = seconds_since(t0);
-    r.views = 0;
-    scan_views(c.rays, *scene.sensor, *scene.rig, scene.background, scan_seed(job), [&](ScanView&& view, std::size_t k) {
-      r.scan_seconds += view.seconds;
-      ++r.views;
-      measure(c.bunch, c.truth, view, k, r);
-    });
-    if (finish) finish(r);
-  });
+  // The one-condition case of measure_views_together, then `finish` when every view measured.
+  const Condition* const one = &condition;
+  CaseResult r = std::move(measure_views_together(std::span<const Condition* const>(&one, 1),
+                                                  std::span<const int>(&condition_index, 1), job,
+                                                  [&](std::size_t, const Bunch& bunch, const GroundTruth& truth,
+                                                      const ScanView& view, std::size_t k, CaseResult& x) {
+                                                    measure(bunch, truth, view, k, x);
+                                                  })
+                               .at(0));
+  if (!r.ok || !finish) return r;
+  try {
+    finish(r);
+  } catch (const std::exception& e) {
+    r.ok = false;
+    r.error = escape_invalid_utf8(e.what());
+  }
+  return r;
 }
 
 std::vector<CaseResult> measure_views_together(std::span<const Condition* const> conditions,

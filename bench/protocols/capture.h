@@ -21,6 +21,8 @@ struct CaseCapture {
 // Throws InputError when the scene has no sensor or rig. The scan draws from the same
 // stream as `grapebench scan`, so a case's scan can be written and inspected.
 CaseCapture capture_case(const Scene& scene, const BunchJob& job);
+// The seed of a case's scan: view k draws from derive_seed(scan_seed(job), k).
+std::uint64_t scan_seed(const BunchJob& job);
 
 // The colour image of a view as image estimators get it: the left image, the right one
 // when the sensor rendered it (with the baseline), the camera (OpenCV pixel centres).
@@ -36,6 +38,7 @@ CaseResult guarded_case(const Condition& condition, int condition_index, const B
 // scene, then each view measured as soon as it is captured (`measure`, view k), so a
 // pass of a thousand frames holds one; `finish` after the last. What any of them
 // throws becomes the case's error. scan_seconds times the bunch and the captures.
+// The one-condition case of measure_views_together.
 using ViewMeasure = std::function<void(const Bunch&, const GroundTruth&, const ScanView&, std::size_t k, CaseResult&)>;
 CaseResult measure_views(const Condition& condition, int condition_index, const BunchJob& job,
                          const ViewMeasure& measure, const std::function<void(CaseResult&)>& finish = {});
