@@ -16,6 +16,7 @@
 #include "bench/build_info.h"
 #include "bench/coco_rle.h"
 #include "bench/image_truth.h"
+#include "bench/protocols/capture.h"
 #include "bench/protocols/stereo_pair.h"
 #include "sensors/render/cycles_render.h"
 #include "sensors/render/ray_render.h"
@@ -355,8 +356,8 @@ DatasetSummary write_dataset(const SceneSet& set, const DatasetRunOptions& o) {
       truths.push_back(bunch_truth(cs.bunches[k], job, uid.back(), split));
     }
     Json images = Json::array();
-    const std::uint64_t scan_seed = derive_seed(job.seed, 0x5ca9);  // the stream of `grapebench scan` and `run`
-    scan_views(rays, *scene.sensor, *scene.rig, scene.background, scan_seed, [&](ScanView&& view, std::size_t k) {
+    // The stream of `grapebench scan` and `run`.
+    scan_views(rays, *scene.sensor, *scene.rig, scene.background, scan_seed(job), [&](ScanView&& view, std::size_t k) {
       if (k >= 1000) throw InputError(scene.path + ": rig: a dataset takes at most 1000 views per bunch");
       summary.timing.capture += view.seconds;
       images.push_back(write_view(scene, ls, cs, view, k, static_cast<std::int64_t>(i), split, uid, o.out, summary.timing));

@@ -1,12 +1,13 @@
 #include "bench/scan_run.h"
 
+#include "bench/protocols/capture.h"
+
 #include "sensors/render/cycles_render.h"
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
 #include "synth/io.h"
 #include "synth/mesh.h"
 
-#include "synth/rng.h"
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -45,11 +46,11 @@ std::vector<ScanSummary> run_scans(const Scene& scene, const ScanRunOptions& o) 
     write_file_atomic(dir / "ground_truth.json", ground_truth_json(bunch, truth, rec).dump(1) + "\n");
     const RayScene rays = scene_rays(scene, bunch, job.seed);
     // Each view is written as it is captured: a pass of a thousand frames holds one.
-    const std::uint64_t scan_seed = derive_seed(job.seed, 0x5ca9);  // its own stream, independent of the generator's
-    ScanWriter writer(scan_description(*scene.sensor, *scene.rig, scene.background, scan_seed), dir, stem, o.merged);
+    const std::uint64_t seed = scan_seed(job);  // its own stream, independent of the generator's
+    ScanWriter writer(scan_description(*scene.sensor, *scene.rig, scene.background, seed), dir, stem, o.merged);
     ScanSummary s;
     s.bunch = job.index;
-    scan_views(rays, *scene.sensor, *scene.rig, scene.background, scan_seed, [&](ScanView&& v, std::size_t) {
+    scan_views(rays, *scene.sensor, *scene.rig, scene.background, seed, [&](ScanView&& v, std::size_t) {
       writer.add(v);
       ++s.views;
       s.valid_points += v.cloud.valid_count();

@@ -28,15 +28,19 @@ Scan scan_description(const Sensor& sensor, const Rig& rig, const BackgroundSpec
 Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
                 std::uint64_t seed, const std::function<void(ScanView&&, std::size_t k)>& consume) {
   // The one-sensor case of scan_views_together (capture_together of one sensor is its capture).
+  Scan scan = scan_description(sensor, rig, background, seed);
   const Sensor* const one = &sensor;
   scan_views_together(scene, std::span<const Sensor* const>(&one, 1), rig, background, seed,
-                      [&](std::vector<ScanView>&& views, std::size_t k) { consume(std::move(views.at(0)), k); });
-  return scan_description(sensor, rig, background, seed);
+                      [&](std::vector<ScanView>&& views, std::size_t k) {
+                        consume(std::move(views.at(0)), k);
+                        return true;
+                      });
+  return scan;
 }
 
 void scan_views_together(const RayScene& scene, std::span<const Sensor* const> sensors, const Rig& rig,
                          const BackgroundSpec& background, std::uint64_t seed,
-                         const std::function<void(std::vector<ScanView>&&, std::size_t k)>& consume) {
+                         const std::function<bool(std::vector<ScanView>&&, std::size_t k)>& consume) {
   if (sensors.empty()) return;
   const Sensor& first = *sensors.front();
   const auto views = rig.views(scene.bunch_centre(), scene.bunch_radius(), background);
@@ -52,7 +56,7 @@ void scan_views_together(const RayScene& scene, std::span<const Sensor* const> s
       out[s].cloud = std::move(clouds.at(s));
       out[s].seconds = seconds / static_cast<double>(sensors.size());
     }
-    consume(std::move(out), k);
+    if (!consume(std::move(out), k)) return;
   }
 }
 

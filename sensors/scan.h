@@ -40,10 +40,11 @@ Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, con
 // The same views by several sensors with one together_key (Sensor::capture_together):
 // `consume` gets view k's frames, one a sensor in their order, each the same as that
 // sensor's capture alone; `seconds` is the shared capture's time over the sensors'
-// count. scan_views is its one-sensor case.
+// count. `consume` returns whether to go on (false: no further view is captured).
+// scan_views is its one-sensor case.
 void scan_views_together(const RayScene& scene, std::span<const Sensor* const> sensors, const Rig& rig,
                          const BackgroundSpec& background, std::uint64_t seed,
-                         const std::function<void(std::vector<ScanView>&&, std::size_t k)>& consume);
+                         const std::function<bool(std::vector<ScanView>&&, std::size_t k)>& consume);
 
 // Files of one view: organised binary PCD (x y z rgb normal label berry, NaN where
 // invalid; points in the sensor frame, VIEWPOINT the camera-to-world pose, so PCL and

@@ -16,6 +16,7 @@
 
 #include "algorithms/classification/crf_smoothing.h"
 #include "algorithms/classification/dey2012_classification.h"
+#include "bench/protocols/capture.h"
 #include "bench/protocols/classification.h"
 #include "bench/scene_file.h"
 #include "synth/rng.h"
@@ -41,7 +42,7 @@ const Data& data() {
     const Scene& scene = set.conditions.front().scene;
     const BunchJob job = bunch_jobs(scene).front();
     const RayScene rays = build_row(scene, job);
-    const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
+    const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, scan_seed(job));
     CaseResult r;
     FusedCloud cloud = reconstruct(scene.pipeline, scan, derive_seed(job.seed, 0x3d5), r);
     std::vector<int> truth;

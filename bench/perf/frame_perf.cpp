@@ -8,6 +8,7 @@
 #include "algorithms/size/ellipsoid_fit.h"
 #include "algorithms/size/percentile_box.h"
 #include "algorithms/segmentation/seed003_roi.h"
+#include "bench/protocols/capture.h"
 #include "bench/protocols/single_frame.h"
 #include "bench/scene_file.h"
 #include "sensors/scan.h"
@@ -56,7 +57,7 @@ const Frame& frame() {
     const auto views = scene.rig->views(base.bunch_centre(), base.bunch_radius(), scene.background);
     const std::size_t centre = views.size() / 2;
     Frame out{scene, base.with_background(views[centre].background), views[centre].pose,
-              derive_seed(derive_seed(job.seed, 0x5ca9), centre), {}, {}, {}, {}, {}, {}, {}, 0};
+              derive_seed(scan_seed(job), centre), {}, {}, {}, {}, {}, {}, {}, 0};
     out.truth_major = std::max(gt.height, gt.row_width);
 
     const OrganisedCloud c = scene.sensor->capture(out.rays, out.pose, out.capture_seed);

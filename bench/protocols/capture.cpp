@@ -1,5 +1,7 @@
 #include "bench/protocols/capture.h"
 
+#include <algorithm>
+
 #include "synth/generate.h"
 #include "synth/rng.h"
 #include "synth/utf8.h"
@@ -110,7 +112,7 @@ std::vector<CaseResult> measure_views_together(std::span<const Condition* const>
     scan_views_together(cs.rays, sensors, *scene.rig, scene.background, scan_seed(job),
                         [&](std::vector<ScanView>&& views, std::size_t k) {
                           for (std::size_t c = 0; c < n; ++c) {
-                            if (failed[c]) continue;  // as measure_views: no view after the one that failed
+                            if (failed[c]) continue;  // no view of a case after the one that failed it
                             r[c].scan_seconds += views[c].seconds;
                             ++r[c].views;
                             try {
@@ -119,6 +121,8 @@ std::vector<CaseResult> measure_views_together(std::span<const Condition* const>
                               fail(c, e);
                             }
                           }
+                          // Go on while a case is live: once every case failed, no further capture.
+                          return std::find(failed.begin(), failed.end(), 0) != failed.end();
                         });
     for (std::size_t c = 0; c < n; ++c) r[c].ok = !failed[c];
   } catch (const std::exception& e) {

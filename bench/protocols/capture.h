@@ -46,7 +46,8 @@ CaseResult measure_views(const Condition& condition, int condition_index, const 
 // bunch, truth and ray scene once (the first condition's scene: they differ in their
 // sensors alone), each view captured once for all (scan_views_together) and measured
 // per condition (`measure`, condition c of the span). A failed capture fails every
-// case; a measure that throws fails its own and the others go on. scan_seconds: the
+// case; a measure that throws fails its own and the others go on; once every case
+// failed, no further view is captured. scan_seconds: the
 // bunch's and the captures' time over the conditions' count.
 using ViewsMeasure = std::function<void(std::size_t c, const Bunch&, const GroundTruth&, const ScanView&, std::size_t k,
                                         CaseResult&)>;

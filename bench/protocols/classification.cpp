@@ -358,7 +358,7 @@ CaseResult run_classification(const Condition& condition, int condition_index, c
     if (!scene.sensor || !scene.rig) throw InputError(scene.path + ": a run needs `sensor:` and `rig:` sections");
     auto t0 = std::chrono::steady_clock::now();
     const RayScene rays = build_row(scene, job);
-    const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9));
+    const Scan scan = scan_bunch(rays, *scene.sensor, *scene.rig, scene.background, scan_seed(job));
     r.scan_seconds = seconds_since(t0);
     r.views = static_cast<int>(scan.views.size());
     t0 = std::chrono::steady_clock::now();

@@ -8,7 +8,6 @@
 #include "bench/instance_mask.h"
 #include "bench/protocols/capture.h"
 #include "synth/ground_truth.h"
-#include "synth/rng.h"
 
 namespace grapebench {
 
@@ -138,7 +137,7 @@ CaseResult run_detection(const Condition& condition, int condition_index, const 
     r.scan_seconds = seconds_since(t0);
     r.views = 0;
     // The stream of `grapebench scan` and `grapebench dataset`.
-    scan_views(rays, *scene.sensor, *scene.rig, scene.background, derive_seed(job.seed, 0x5ca9),
+    scan_views(rays, *scene.sensor, *scene.rig, scene.background, scan_seed(job),
                [&](ScanView&& view, std::size_t k) {
       r.scan_seconds += view.seconds;
       ++r.views;

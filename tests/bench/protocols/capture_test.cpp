@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "bench/scene_file.h"
+#include "sensors/ideal.h"
 #include "synth/generate.h"
 #include "synth/rng.h"
 
@@ -37,6 +40,64 @@ TEST(Capture, SeedOnesThreeLightsTogetherGiveEachLightsPairToTheBit) {
     EXPECT_TRUE(together[l].left_image == alone.left_image) << set.conditions[l].label;
     EXPECT_TRUE(together[l].right_image == alone.right_image) << set.conditions[l].label;
   }
+}
+
+// An ideal sensor that counts its captures.
+class CountingSensor : public IdealSensor {
+ public:
+  CountingSensor(const IdealParams& p, std::atomic<int>& count) : IdealSensor(p), count_(count) {}
+  OrganisedCloud capture(const RayScene& scene, const Eigen::Isometry3d& pose, std::uint64_t seed) const override {
+    ++count_;
+    return IdealSensor::capture(scene, pose, seed);
+  }
+
+ private:
+  std::atomic<int>& count_;
+};
+
+// A case that fails at a view captures no further view, and its fields say how far it
+// got (found in review: measure_views, as the one-condition case of
+// measure_views_together, went on capturing the whole pass for a case already failed).
+TEST(Capture, ACaseCapturesNoViewAfterTheOneThatFailedIt) {
+  const Scene base = parse_scene(R"(name: stop
+seed: 3
+bunches:
+  - preset: table-red
+    count: 1
+sensor: {type: ideal, width: 64, height: 48}
+rig: {type: turntable, views: 5}
+estimators:
+  - {type: convex_hull}
+)",
+                                 "stop.yaml");
+  std::atomic<int> captures{0};
+  IdealParams ip;
+  ip.width = 64, ip.height = 48;
+  Condition condition;
+  condition.scene = base;
+  condition.scene.sensor = std::make_shared<CountingSensor>(ip, captures);
+  const BunchJob job = bunch_jobs(condition.scene).at(0);
+  int finished = 0;
+  const CaseResult failed = measure_views(
+      condition, 0, job,
+      [](const Bunch&, const GroundTruth&, const ScanView&, std::size_t k, CaseResult&) {
+        if (k == 1) throw InputError("view 1 cannot be measured");
+      },
+      [&](CaseResult&) { ++finished; });
+  EXPECT_FALSE(failed.ok);
+  EXPECT_EQ(failed.error, "view 1 cannot be measured");
+  EXPECT_EQ(failed.views, 2);
+  EXPECT_EQ(captures.load(), 2);
+  EXPECT_EQ(finished, 0);  // no finish after a failure
+  // The whole pass when every view is measured, then finish.
+  captures = 0;
+  const CaseResult whole = measure_views(
+      condition, 0, job, [](const Bunch&, const GroundTruth&, const ScanView&, std::size_t, CaseResult&) {},
+      [&](CaseResult&) { ++finished; });
+  EXPECT_TRUE(whole.ok) << whole.error;
+  EXPECT_EQ(whole.views, 5);
+  EXPECT_EQ(captures.load(), 5);
+  EXPECT_EQ(finished, 1);
 }
 
 }  // namespace
