@@ -25,6 +25,12 @@ CaptureScene capture_scene(const Scene& scene, const BunchJob& job) {
   return {std::move(bunch), std::move(truth), std::move(rays)};
 }
 
+// A case that failed, its reason for results.csv (valid UTF-8).
+void mark_failed(CaseResult& r, const std::exception& e) {
+  r.ok = false;
+  r.error = escape_invalid_utf8(e.what());
+}
+
 }  // namespace
 
 std::uint64_t scan_seed(const BunchJob& job) { return derive_seed(job.seed, 0x5ca9); }
@@ -59,8 +65,7 @@ CaseResult guarded_case(const Condition& condition, int condition_index, const B
     body(r);
     r.ok = true;
   } catch (const std::exception& e) {
-    r.ok = false;
-    r.error = escape_invalid_utf8(e.what());
+    mark_failed(r, e);
   }
   return r;
 }
@@ -80,8 +85,7 @@ CaseResult measure_views(const Condition& condition, int condition_index, const 
   try {
     finish(r);
   } catch (const std::exception& e) {
-    r.ok = false;
-    r.error = escape_invalid_utf8(e.what());
+    mark_failed(r, e);
   }
   return r;
 }
@@ -95,8 +99,7 @@ std::vector<CaseResult> measure_views_together(std::span<const Condition* const>
   std::vector<char> failed(n, 0);
   const auto fail = [&](std::size_t c, const std::exception& e) {
     failed[c] = 1;
-    r[c].ok = false;
-    r[c].error = escape_invalid_utf8(e.what());
+    mark_failed(r[c], e);
   };
   try {
     const Scene& scene = conditions.front()->scene;
