@@ -38,6 +38,8 @@ Scan scan_views(const RayScene& scene, const Sensor& sensor, const Rig& rig, con
   return scan;
 }
 
+std::uint64_t view_seed(std::uint64_t seed, std::size_t k) { return derive_seed(seed, k); }
+
 void scan_views_together(const RayScene& scene, std::span<const Sensor* const> sensors, const Rig& rig,
                          const BackgroundSpec& background, std::uint64_t seed,
                          const std::function<bool(std::vector<ScanView>&&, std::size_t k)>& consume) {
@@ -47,7 +49,7 @@ void scan_views_together(const RayScene& scene, std::span<const Sensor* const> s
   for (std::size_t k = 0; k < views.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<OrganisedCloud> clouds =
-        first.capture_together(sensors, scene.with_background(views[k].background), views[k].pose, derive_seed(seed, k));
+        first.capture_together(sensors, scene.with_background(views[k].background), views[k].pose, view_seed(seed, k));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::vector<ScanView> out(sensors.size());
     for (std::size_t s = 0; s < sensors.size(); ++s) {

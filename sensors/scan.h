@@ -25,7 +25,11 @@ struct Scan {
   std::uint64_t seed = 0;
 };
 
-// Every view of `rig` through `sensor`; view k draws from derive_seed(seed, k).
+// The seed view k of a scan with `seed` draws from (every capture of a scan's view,
+// and a test or benchmark that captures one view alone, take it from here).
+std::uint64_t view_seed(std::uint64_t seed, std::size_t k);
+
+// Every view of `rig` through `sensor`; view k draws from view_seed(seed, k).
 Scan scan_bunch(const RayScene& scene, const Sensor& sensor, const Rig& rig, const BackgroundSpec& background,
                 std::uint64_t seed);
 

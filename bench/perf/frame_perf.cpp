@@ -14,7 +14,6 @@
 #include "sensors/scan.h"
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
-#include "synth/rng.h"
 
 #include <benchmark/benchmark.h>
 
@@ -57,7 +56,7 @@ const Frame& frame() {
     const auto views = scene.rig->views(base.bunch_centre(), base.bunch_radius(), scene.background);
     const std::size_t centre = views.size() / 2;
     Frame out{scene, base.with_background(views[centre].background), views[centre].pose,
-              derive_seed(scan_seed(job), centre), {}, {}, {}, {}, {}, {}, {}, 0};
+              view_seed(scan_seed(job), centre), {}, {}, {}, {}, {}, {}, {}, 0};
     out.truth_major = std::max(gt.height, gt.row_width);
 
     const OrganisedCloud c = scene.sensor->capture(out.rays, out.pose, out.capture_seed);

@@ -21,7 +21,7 @@ struct CaseCapture {
 // Throws InputError when the scene has no sensor or rig. The scan draws from the same
 // stream as `grapebench scan`, so a case's scan can be written and inspected.
 CaseCapture capture_case(const Scene& scene, const BunchJob& job);
-// The seed of a case's scan: view k draws from derive_seed(scan_seed(job), k).
+// The seed of a case's scan: view k draws from view_seed(scan_seed(job), k).
 std::uint64_t scan_seed(const BunchJob& job);
 
 // The colour image of a view as image estimators get it: the left image, the right one

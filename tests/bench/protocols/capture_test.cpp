@@ -6,8 +6,8 @@
 
 #include "bench/scene_file.h"
 #include "sensors/ideal.h"
+#include "sensors/scan.h"
 #include "synth/generate.h"
-#include "synth/rng.h"
 
 namespace grapebench {
 namespace {
@@ -31,7 +31,7 @@ TEST(Capture, SeedOnesThreeLightsTogetherGiveEachLightsPairToTheBit) {
   std::vector<const Sensor*> sensors;
   for (const Condition& c : set.conditions) sensors.push_back(c.scene.sensor.get());
   const RayScene seen = rays.with_background(view.background);
-  const std::uint64_t seed = derive_seed(scan_seed(job), k);
+  const std::uint64_t seed = view_seed(scan_seed(job), k);
   const std::vector<OrganisedCloud> together = sensors.front()->capture_together(sensors, seen, view.pose, seed);
   ASSERT_EQ(together.size(), 3u);
   for (std::size_t l = 0; l < sensors.size(); ++l) {
