@@ -25,8 +25,8 @@ struct Scan {
   std::uint64_t seed = 0;
 };
 
-// The seed view k of a scan with `seed` draws from (every capture of a scan's view,
-// and a test or benchmark that captures one view alone, take it from here).
+// The seed of view k of a scan with `seed`. Every capture of a scan's view takes it
+// from here, tests and benchmarks that capture one view alone included.
 std::uint64_t view_seed(std::uint64_t seed, std::size_t k);
 
 // Every view of `rig` through `sensor`; view k draws from view_seed(seed, k).

@@ -29,7 +29,6 @@
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
 #include "synth/surface_sample.h"
-#include "synth/rng.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
@@ -427,7 +426,7 @@ void BM_RayCast_open3d_raycasting_scene(benchmark::State& s) {
   const auto poses = make_turntable(TurntableParams{})->views(scene.bounds_centre(), scene.bounds_radius(), {});
   std::vector<float> flat;
   for (std::size_t k = 0; k < poses.size(); ++k) {
-    for (const Ray& r : kinect.traced_rays(scene, poses[k].pose, derive_seed(5, k))) {
+    for (const Ray& r : kinect.traced_rays(scene, poses[k].pose, view_seed(5, k))) {
       for (int a = 0; a < 3; ++a) flat.push_back(static_cast<float>(r.origin[a]));
       for (int a = 0; a < 3; ++a) flat.push_back(static_cast<float>(r.direction[a]));
     }

@@ -6,7 +6,6 @@
 #include "sensors/rig.h"
 #include "sensors/scan.h"
 #include "synth/generate.h"
-#include "synth/rng.h"
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -85,9 +84,9 @@ void BM_RawEmbree(benchmark::State& state, std::string sensor_type, std::string 
   for (std::size_t k = 0; k < poses.size(); ++k) {
     const auto& v = poses[k];
     // The Kinect's rays, jitter and margin included, exactly as its capture traces
-    // them (seed as in scan_bunch's view k).
+    // them (the seed view_seed gives scan_bunch's view k).
     if (sensor_type == "kinect_v2") {
-      views.push_back(static_cast<const KinectV2&>(*s).traced_rays(scene(), v.pose, derive_seed(5, k)));
+      views.push_back(static_cast<const KinectV2&>(*s).traced_rays(scene(), v.pose, view_seed(5, k)));
     } else {
       views.push_back(traced_rays(*s, v.pose, 1));
     }
