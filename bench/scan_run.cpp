@@ -1,13 +1,11 @@
 #include "bench/scan_run.h"
 
 #include "bench/protocols/capture.h"
-
 #include "sensors/render/cycles_render.h"
 #include "synth/generate.h"
 #include "synth/ground_truth.h"
 #include "synth/io.h"
 #include "synth/mesh.h"
-
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
