@@ -10,6 +10,7 @@
 #include "bench/scan_run.h"
 #include "bench/protocols/registry.h"
 #include "bench/scene_file.h"
+#include "bench/stop_on_signal.h"
 #include "bench/synth_run.h"
 #include "synth/config.h"
 #include "synth/io.h"
@@ -567,6 +568,7 @@ Command estimate_subcommand(CLI::App& app, const std::shared_ptr<Global>& g) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  stop_on_signal();  // before any thread: they inherit the signals blocked
   CLI::App app{"grapebench: benchmark harness for grape-bunch geometry estimators"};
   app.require_subcommand(1);
   // The build identity hashes the executable: only when asked (a command that fails on

@@ -11,6 +11,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -36,10 +37,8 @@ struct WardenPlan {
   const char* work_dir = nullptr;
   int in = -1, out = -1, err = -1, status = -1;  // become fds 0, 1, 2 and 3
   rlimit cpu{}, memory{}, file{};
+  pid_t harness = -1;  // the warden's parent: once it is gone, so is the program
 };
-
-volatile sig_atomic_t g_stop = 0;  // the warden's: the harness asked it to stop
-void on_stop(int) { g_stop = 1; }
 
 void write_text(int fd, const char* s) {
   const ssize_t ignored = write(fd, s, std::strlen(s));
@@ -75,10 +74,12 @@ int lift(int fd) { return fd < 0 ? -1 : fcntl(fd, F_DUPFD, 10); }
 [[noreturn]] void warden_main(const WardenPlan& p) {
   setsid();  // its own session and process group: nothing reaches the harness's terminal
   prctl(PR_SET_CHILD_SUBREAPER, 1);
-  struct sigaction sa {};
-  sa.sa_handler = on_stop;  // no SA_RESTART: waitpid returns EINTR
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGTERM, &sa, nullptr);
+  // SIGTERM (the harness's "stop") and SIGCHLD stay blocked and are waited for.
+  sigset_t wake;
+  sigemptyset(&wake);
+  sigaddset(&wake, SIGTERM);
+  sigaddset(&wake, SIGCHLD);
+  sigprocmask(SIG_SETMASK, &wake, nullptr);
   int in = lift(p.in);
   if (in < 0) in = open("/dev/null", O_RDONLY);
   const int out = lift(p.out), err = lift(p.err), status = lift(p.status);
@@ -89,12 +90,11 @@ int lift(int fd) { return fd < 0 ? -1 : fcntl(fd, F_DUPFD, 10); }
   dup2(status, 3);
   close_range(4, ~0U, 0);  // none of the harness's files (sockets of other programs) leak
   fcntl(3, F_SETFD, FD_CLOEXEC);
-  sigset_t none;
-  sigemptyset(&none);
-  sigprocmask(SIG_SETMASK, &none, nullptr);
   const pid_t prog = fork();
   if (prog == 0) {
-    signal(SIGTERM, SIG_DFL);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
     setrlimit(RLIMIT_CPU, &p.cpu);
     setrlimit(RLIMIT_AS, &p.memory);
     setrlimit(RLIMIT_FSIZE, &p.file);
@@ -107,11 +107,16 @@ int lift(int fd) { return fd < 0 ? -1 : fcntl(fd, F_DUPFD, 10); }
   }
   int st = 126 << 8;  // exit status 126: the program could not be started
   if (prog > 0) {
+    // Stopped when the harness says so, or when the harness is gone (killed, say, so
+    // that it could not say so): checked every 200 ms.
+    const timespec tick{0, 200000000};
+    bool stop = false;
     for (;;) {
-      const pid_t r = waitpid(prog, &st, 0);
-      if (r == prog) break;
-      if (r < 0 && errno != EINTR) break;
-      if (g_stop) kill(prog, SIGKILL);
+      const pid_t r = waitpid(prog, &st, WNOHANG);
+      if (r == prog || (r < 0 && errno != EINTR)) break;
+      if (stop) kill(prog, SIGKILL);
+      const int sig = sigtimedwait(&wake, nullptr, &tick);
+      stop = stop || sig == SIGTERM || getppid() != p.harness;
     }
   }
   kill_descendants();
@@ -154,6 +159,11 @@ std::string find_program_where(const std::string& name, const Usable& usable) {
 
 std::mutex g_hidden_mutex;
 std::vector<fs::path> g_hidden;  // hide_from_programs
+
+// The wardens running in this process and their pidfds (stop_every_program). A pidfd
+// is closed only after its warden leaves this list, under the same mutex.
+std::mutex g_live_mutex;
+std::vector<std::pair<pid_t, int>> g_live;
 
 // Absolute, lexically normal, no trailing separator.
 fs::path normal(const fs::path& p) {
@@ -370,6 +380,7 @@ ConfinedProgram::ConfinedProgram(const std::vector<std::string>& argv, const fs:
   sigemptyset(&term);
   sigaddset(&term, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &term, &old);
+  plan.harness = getpid();
   const pid_t pid = fork();
   if (pid == 0) warden_main(plan);
   pthread_sigmask(SIG_SETMASK, &old, nullptr);
@@ -393,6 +404,8 @@ ConfinedProgram::ConfinedProgram(const std::vector<std::string>& argv, const fs:
       if (fd >= 0) close(fd);
     throw std::runtime_error(std::string("pidfd_open failed: ") + std::strerror(e));
   }
+  const std::lock_guard lock(g_live_mutex);
+  g_live.emplace_back(warden_, pidfd_);
 }
 
 ConfinedProgram::~ConfinedProgram() {
@@ -421,6 +434,10 @@ bool ConfinedProgram::read_output(short out_events, short err_events) {
 }
 
 void ConfinedProgram::reap() {
+  {
+    const std::lock_guard lock(g_live_mutex);
+    std::erase_if(g_live, [this](const auto& w) { return w.first == warden_; });
+  }
   int ws = 0;
   while (waitpid(warden_, &ws, 0) < 0 && errno == EINTR) {
   }
@@ -503,6 +520,21 @@ std::string ConfinedProgram::error_tail() const {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ' || s.back() == '\r')) s.pop_back();
   if (s.size() > 400) s = "..." + s.substr(s.size() - 400);
   return s;
+}
+
+void stop_every_program() {
+  const std::lock_guard lock(g_live_mutex);  // held: no warden leaves the list (or closes its pidfd) meanwhile
+  for (const auto& [warden, pidfd] : g_live) kill(warden, SIGTERM);
+  const auto deadline = ConfinedProgram::Clock::now() + std::chrono::seconds(3);
+  for (const auto& [warden, pidfd] : g_live) {
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - ConfinedProgram::Clock::now()).count();
+    pollfd p{pidfd, POLLIN, 0};
+    if (poll(&p, 1, static_cast<int>(std::max<long long>(left, 0))) <= 0) {  // as stop() does
+      kill(-warden, SIGKILL);
+      kill(warden, SIGKILL);
+    }
+  }
 }
 
 }  // namespace grapebench

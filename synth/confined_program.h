@@ -1,8 +1,8 @@
 // Runs another program (an external estimator) so that it cannot outlive, outwait or
 // reach past its request: a warden process (a fork of ours, the program's parent and
 // subreaper) sets resource limits, runs the program -- inside bubblewrap by default --
-// and, when it ends or the harness says stop, kills everything the program started,
-// daemons that left its process group included.
+// and, when it ends, the harness says stop or the harness is gone (killed), kills
+// everything the program started, daemons that left its process group included.
 #pragma once
 
 #include <sys/types.h>
@@ -93,6 +93,12 @@ class ConfinedProgram {
 
 // Where `name` is found in PATH (or `name` itself when it holds a '/'); "" when not.
 std::string find_program(const std::string& name);
+
+// Stops every program this process still runs (for a harness about to end on a
+// signal): each warden is told to stop and given 3 s in all, then killed with its
+// group. Thread-safe; a program started meanwhile is stopped by its warden once the
+// harness has ended (a warden checks for its parent every 200 ms).
+void stop_every_program();
 
 // Folders no sandboxed program may see, whatever its `readable` says (the run's
 // --out: case files and truth): each is covered by an empty folder in its view.

@@ -18,4 +18,9 @@ class TempFolder {
   std::filesystem::path path;
 };
 
+// Removes every TempFolder of this process that still exists, for a process about to
+// end on a signal (whose destructors will not run): from then on no TempFolder is made
+// or removed (either blocks), so the process must end right after. Thread-safe.
+void remove_temp_folders_before_exit();
+
 }  // namespace grapebench

@@ -5,6 +5,7 @@
 #include "sensors/render/cycles_render.h"
 #include "synth/confined_program.h"
 #include "synth/params.h"
+#include "synth/processes_with.h"
 #include "synth/temp_folder.h"
 
 #include <gtest/gtest.h>
@@ -13,9 +14,11 @@
 #include <sys/stat.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
+#include <signal.h>
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -127,6 +130,59 @@ TEST(Cli, AKilledRunResumesToTheResultsOfAnUninterruptedOne) {
   ASSERT_EQ(resumed.status, 0) << resumed.out;
   EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/results.csv"), slurp("/tmp/grapebench_cli_whole/default/results.csv"));
   EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/summary.json"), slurp("/tmp/grapebench_cli_whole/default/summary.json"));
+}
+
+// Reproducer: a run stopped by SIGTERM or Ctrl-C left its external program running to
+// its own end (up to its `timeout`) and its temporary folders (147 MB for a Cycles
+// pair) in TMPDIR; one killed outright left the program running too.
+// Now the program ends with the run, and the folder with it where the signal can be
+// caught; a SIGHUP ignored on entry (nohup) stays ignored.
+TEST(Cli, AStoppedRunLeavesNoProgramAndNoTemporaryFolder) {
+  for (const int sig : {SIGTERM, SIGINT, SIGKILL}) {
+    const TempFolder dir("gb-cli-stop");
+    const std::filesystem::path tmp = dir.path / "tmp", scene = dir.path / "stop.yaml";
+    std::filesystem::create_directories(tmp);
+    // A unique sleep (the marker) that outlives any test: only the run's end stops it.
+    const std::string marker = "600." + std::to_string(getpid()) + std::to_string(sig);
+    std::ofstream(scene) << "name: stop\nseed: 5\nbunches:\n  - preset: summer-black\n    count: 1\n"
+                            "sensor:\n  type: kinect_v2\n  width: 256\n  height: 212\n"
+                            "rig:\n  type: turntable\n  views: 2\n  step_deg: 90\n"
+                            "estimators:\n  - type: external\n    name: sleeper\n    sandbox: none\n"
+                            "    command: [/bin/sh, -c, 'sleep "
+                         << marker << "; exit 3', sh]\n";
+    const std::string out = (dir.path / "out").string(), tmpdir = "TMPDIR=" + tmp.string();
+    const pid_t pid = fork();
+    if (pid == 0) {
+      for (int s : {SIGINT, SIGTERM}) signal(s, SIG_DFL);
+      signal(SIGHUP, SIG_IGN);  // as nohup starts it
+      const int null = open("/dev/null", O_WRONLY);
+      dup2(null, 1);
+      dup2(null, 2);
+      putenv(const_cast<char*>(tmpdir.c_str()));
+      execl(GRAPEBENCH_EXE, GRAPEBENCH_EXE, "run", scene.c_str(), "--out", out.c_str(), "--quiet", nullptr);
+      _exit(127);
+    }
+    ASSERT_GT(pid, 0);
+    for (int i = 0; i < 600 && processes_with(marker) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ASSERT_GT(processes_with(marker), 0) << "the external program never started";
+    ASSERT_FALSE(std::filesystem::is_empty(tmp));  // its request and answer folders
+    if (sig == SIGTERM) {
+      kill(pid, SIGHUP);
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0) << "an ignored SIGHUP ended the run";
+    }
+    kill(pid, sig);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << sig << ": status " << status;
+    if (sig == SIGKILL) {  // nothing ran in the run to stop it: its warden does, within 200 ms
+      for (int i = 0; i < 60 && processes_with(marker) > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      EXPECT_EQ(processes_with(marker), 0) << "the program outlived the killed run";
+    } else {
+      EXPECT_EQ(processes_with(marker), 0) << sig << ": the program outlived the stopped run";
+      EXPECT_TRUE(std::filesystem::is_empty(tmp)) << sig << ": " << std::filesystem::directory_iterator(tmp)->path();
+    }
+  }
 }
 
 // A case computed by another build is recomputed, not reused, unless the user asks;

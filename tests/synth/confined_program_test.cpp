@@ -2,6 +2,8 @@
 // floods of stderr, writes outside the work folder, a look at the harness through
 // /proc, the network, and the resource limits; with bubblewrap and without.
 #include "synth/confined_program.h"
+#include "synth/processes_with.h"
+#include "synth/temp_folder.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -19,27 +21,14 @@ namespace fs = std::filesystem;
 using Clock = ConfinedProgram::Clock;
 using Sandbox = ProgramLimits::Sandbox;
 
-// A fresh folder for one test (its own name, this process's pid).
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("gb-confined-" + name + "-" + std::to_string(getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-// Processes whose command line holds `marker` (the tests' daemons carry one).
-int processes_with(const std::string& marker) {
-  int n = 0;
-  for (const auto& e : fs::directory_iterator("/proc")) {
-    const std::string name = e.path().filename().string();
-    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::ifstream in(e.path() / "cmdline", std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    if (s.str().find(marker) != std::string::npos) ++n;
-  }
-  return n;
-}
+// A fresh folder for one test, removed with it (they were left behind, 17 a run).
+struct Dir {
+  explicit Dir(const std::string& name) : folder("gb-confined-" + name) {}
+  operator fs::path() const { return folder.path; }
+  fs::path operator/(const std::string& p) const { return folder.path / p; }
+  std::string string() const { return folder.path.string(); }
+  TempFolder folder;
+};
 
 bool bwrap_runs() {
   return std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") == 0;
@@ -66,7 +55,7 @@ class Confined : public ::testing::TestWithParam<Sandbox> {
 };
 
 TEST_P(Confined, NothingItStartedSurvivesItsEnd) {
-  const fs::path work = fresh_dir("survive");
+  const Dir work("survive");
   const std::string marker = "gbdaemon" + std::to_string(getpid()) + "a";
   // A daemon in a session of its own (out of the program's group), then a plain exit.
   auto prog = shell("setsid sh -c 'while :; do sleep 0.05; done' " + marker + " & sleep 0.2; exit 0", work);
@@ -76,7 +65,7 @@ TEST_P(Confined, NothingItStartedSurvivesItsEnd) {
 }
 
 TEST_P(Confined, TimeoutStopsTheWholeTree) {
-  const fs::path work = fresh_dir("timeout");
+  const Dir work("timeout");
   const std::string marker = "gbdaemon" + std::to_string(getpid()) + "b";
   auto prog = shell("setsid sh -c 'while :; do sleep 0.05; done' " + marker + " & exec sleep 30", work);
   const auto t0 = Clock::now();
@@ -86,7 +75,7 @@ TEST_P(Confined, TimeoutStopsTheWholeTree) {
 }
 
 TEST_P(Confined, StderrFloodIsStoppedAtTheCapWithItsTail) {
-  const fs::path work = fresh_dir("flood");
+  const Dir work("flood");
   limits.output_bytes = 1 << 20;
   auto prog = shell("yes flooding >&2", work);
   EXPECT_EQ(prog->wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::TooMuchOutput);
@@ -97,7 +86,7 @@ TEST_P(Confined, StderrFloodIsStoppedAtTheCapWithItsTail) {
 // Extra variables reach the program and win over the harness's (COLMAP's seed shim
 // comes in by LD_PRELOAD this way); the rest of the environment is kept.
 TEST_P(Confined, ExtraEnvironmentReachesTheProgram) {
-  const fs::path work = fresh_dir("environment");
+  const Dir work("environment");
   setenv("GB_CONFINED_KEPT", "kept", 1);
   setenv("GB_CONFINED_SET", "harness", 1);
   limits.environment = {{"GB_CONFINED_SET", "program"}, {"GB_CONFINED_NEW", "a b=c"}};
@@ -108,7 +97,7 @@ TEST_P(Confined, ExtraEnvironmentReachesTheProgram) {
 }
 
 TEST_P(Confined, FileSizeAndCpuLimitsKillWithTheReason) {
-  const fs::path work = fresh_dir("limits");
+  const Dir work("limits");
   limits.file_mb = 1;
   auto big = shell("exec head -c 3000000 /dev/zero > big", work);
   ASSERT_EQ(big->wait(Clock::now() + std::chrono::seconds(20)), ConfinedProgram::End::Exited);
@@ -127,7 +116,7 @@ INSTANTIATE_TEST_SUITE_P(BothSandboxes, Confined, ::testing::Values(Sandbox::Bwr
 // in /proc, and there is no network but loopback.
 TEST(ConfinedBwrap, WritesStayInTheWorkFolderAndTheHarnessIsOutOfSight) {
   if (!bwrap_runs()) GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
-  const fs::path work = fresh_dir("bwrap-work"), outside = fresh_dir("bwrap-outside");
+  const Dir work("bwrap-work"), outside("bwrap-outside");
   const std::string script = "echo forged > '" + (outside / "forged").string() + "'; echo forged > /tmp/gb-forged-" +
                              std::to_string(getpid()) +
                              "; cat /proc/$PPID/cmdline /proc/1/cmdline > seen.txt; "
@@ -150,7 +139,7 @@ TEST(ConfinedBwrap, WritesStayInTheWorkFolderAndTheHarnessIsOutOfSight) {
 // PATH only outside that view is refused with where it was found.
 TEST(ConfinedBwrap, OnlyTheSystemItsFilesAndReadableAreSeen) {
   if (!bwrap_runs()) GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
-  const fs::path work = fresh_dir("view-work"), shown = fresh_dir("view-shown"), unseen = fresh_dir("view-unseen");
+  const Dir work("view-work"), shown("view-shown"), unseen("view-unseen");
   fs::create_directories(shown / "out");
   std::ofstream(shown / "a.txt") << "shown\n";
   std::ofstream(shown / "out" / "truth.json") << "{}\n";
@@ -184,7 +173,7 @@ TEST(ConfinedBwrap, OnlyTheSystemItsFilesAndReadableAreSeen) {
       std::runtime_error);
 
   // A program in PATH outside the view (a shim in a home, say).
-  const fs::path bin = fresh_dir("view-bin");
+  const Dir bin("view-bin");
   std::ofstream(bin / "gbprog") << "#!/bin/sh\necho ran > ran\n";
   fs::permissions(bin / "gbprog", fs::perms::owner_all);
   const std::string saved = std::getenv("PATH") ? std::getenv("PATH") : "";
@@ -210,7 +199,7 @@ TEST(ConfinedBwrap, WithoutBwrapTheErrorSaysHowToOptOut) {
   setenv("PATH", "/nonexistent-gb", 1);
   std::string error;
   try {
-    ConfinedProgram prog({"/bin/true"}, fresh_dir("nobwrap"), ProgramLimits{});
+    ConfinedProgram prog({"/bin/true"}, Dir("nobwrap"), ProgramLimits{});
   } catch (const std::runtime_error& e) {
     error = e.what();
   }
