@@ -1,6 +1,7 @@
 #include "bench/stop_on_signal.h"
 
 #include "synth/confined_program.h"
+#include "synth/process_end.h"
 #include "synth/temp_folder.h"
 
 #include <pthread.h>
@@ -23,14 +24,14 @@ void stop_on_signal() {
   std::thread([set] {
     int sig = 0;
     if (sigwait(&set, &sig) != 0) return;
+    begin_process_end();  // nothing that fails from here on is stored
+    // A second signal ends the process at once (this thread no longer blocks them).
+    for (int s : {SIGINT, SIGTERM, SIGHUP})
+      if (sigismember(&set, s)) signal(s, SIG_DFL);
+    pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
     // Programs first: Blender or an estimator could still write into its folder.
     stop_every_program();
     remove_temp_folders_before_exit();
-    signal(sig, SIG_DFL);
-    sigset_t one;
-    sigemptyset(&one);
-    sigaddset(&one, sig);
-    pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
     raise(sig);
     _exit(128 + sig);  // not reached: the default action ends the process
   }).detach();

@@ -162,8 +162,9 @@ std::vector<fs::path> g_hidden;  // hide_from_programs
 
 // The wardens running in this process and their pidfds (stop_every_program). A pidfd
 // is closed only after its warden leaves this list, under the same mutex.
-std::mutex g_live_mutex;
-std::vector<std::pair<pid_t, int>> g_live;
+// Never destroyed: a signal's thread may still use them while main returns.
+std::mutex& g_live_mutex = *new std::mutex;
+std::vector<std::pair<pid_t, int>>& g_live = *new std::vector<std::pair<pid_t, int>>;
 
 // Absolute, lexically normal, no trailing separator.
 fs::path normal(const fs::path& p) {

@@ -12,10 +12,12 @@
 #include <vector>
 
 #include "synth/config.h"
+#include "synth/process_end.h"
 
 namespace grapebench {
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes) {
+  wait_here_if_ending();  // what fails during a stop on a signal is not stored
   // Unique per call, not only per process: two threads writing one path (two cases
   // storing the same render in the cache) would share a pid-named temp file, and the
   // slower one's rename would fail (or the file hold the other's half-written bytes).

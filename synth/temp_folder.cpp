@@ -12,8 +12,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::mutex g_mutex;
-std::set<fs::path> g_live;  // every TempFolder's path (remove_temp_folders_before_exit)
+// Every TempFolder's path (remove_temp_folders_before_exit), and its mutex. Never
+// destroyed: a signal's thread may still use them while main returns.
+std::mutex& g_mutex = *new std::mutex;
+std::set<fs::path>& g_live = *new std::set<fs::path>;
 
 }  // namespace
 
@@ -37,8 +39,14 @@ TempFolder::~TempFolder() {
 void remove_temp_folders_before_exit() {
   g_mutex.lock();  // never unlocked: the process ends next
   for (const auto& p : g_live) {
+    // Moved aside first: a thread still writing by the folder's path then fails
+    // instead of adding a file after remove_all's walk (which would keep the folder).
+    fs::path gone = p;
+    gone += ".removing";
     std::error_code ec;
-    fs::remove_all(p, ec);
+    fs::rename(p, gone, ec);
+    if (ec) gone = p;
+    for (int tries = 0; tries < 3 && fs::exists(gone, ec); ++tries) fs::remove_all(gone, ec);
   }
 }
 
