@@ -68,6 +68,12 @@ void kill_descendants() {
   }
 }
 
+// A warden that cannot answer (or could not be set up): killed with its process group.
+void kill_warden(pid_t warden) {
+  kill(-warden, SIGKILL);
+  kill(warden, SIGKILL);
+}
+
 // A high descriptor copy of fd (so that moving it to 0..3 cannot overwrite another).
 int lift(int fd) { return fd < 0 ? -1 : fcntl(fd, F_DUPFD, 10); }
 
@@ -397,8 +403,7 @@ ConfinedProgram::ConfinedProgram(const std::vector<std::string>& argv, const fs:
   status_fd_ = status_pipe[0];
   pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));  // glibc 2.36's wrapper lacks C linkage
   if (pidfd_ < 0) {  // Linux >= 5.3; without it the warden's end cannot be polled
-    kill(-pid, SIGKILL);
-    kill(pid, SIGKILL);
+    kill_warden(pid);
     const int e = errno;
     reap();
     for (int fd : {out_, err_, status_fd_})
@@ -486,8 +491,7 @@ void ConfinedProgram::stop() {
   kill(warden_, SIGTERM);
   pollfd p{pidfd_, POLLIN, 0};
   if (poll(&p, 1, 3000) <= 0) {  // a warden that does not answer: kill its group
-    kill(-warden_, SIGKILL);
-    kill(warden_, SIGKILL);
+    kill_warden(warden_);
   }
   reap();
 }
@@ -531,10 +535,7 @@ void stop_every_program() {
     const auto left =
         std::chrono::duration_cast<std::chrono::milliseconds>(deadline - ConfinedProgram::Clock::now()).count();
     pollfd p{pidfd, POLLIN, 0};
-    if (poll(&p, 1, static_cast<int>(std::max<long long>(left, 0))) <= 0) {  // as stop() does
-      kill(-warden, SIGKILL);
-      kill(warden, SIGKILL);
-    }
+    if (poll(&p, 1, static_cast<int>(std::max<long long>(left, 0))) <= 0) kill_warden(warden);  // as stop() does
   }
 }
 
