@@ -19,6 +19,7 @@
 #include "sensors/ideal.h"
 #include "sensors/render/ray_render.h"
 #include "synth/confined_program.h"
+#include "synth/fnv1a.h"
 #include "synth/foliage.h"
 #include "synth/generate.h"
 #include "synth/temp_folder.h"
@@ -27,14 +28,17 @@ namespace grapebench {
 namespace {
 
 struct Fixture {
-  Bunch bunch = generate_bunch(preset("table-red"), 4);
-  Foliage foliage = generate_foliage(FoliageParams{}, bunch, 9);
-  RayScene scene{bunch, std::nullopt, foliage};
+  Bunch bunch;
+  Foliage foliage;
+  RayScene scene;
   Camera cam;
   Illumination light;
   AppearanceParams look;
   PhotoCameraParams camera;
-  Fixture(int w, int h) {
+  Fixture(int w, int h, std::uint64_t bunch_seed = 4, std::uint64_t foliage_seed = 9)
+      : bunch(generate_bunch(preset("table-red"), bunch_seed)),
+        foliage(generate_foliage(FoliageParams{}, bunch, foliage_seed)),
+        scene(bunch, std::nullopt, foliage) {
     const Vec3 c = scene.bunch_centre();
     Intrinsics k;
     k.width = w;
@@ -206,6 +210,57 @@ TEST(CyclesRender, TheCacheAnswersTheSameInputWithoutBlenderAndNoOtherInput) {
   a.join(), b.join();
   EXPECT_NE(one.cached, two.cached);  // one rendered, the other read it
   EXPECT_EQ(one.linear, two.linear);
+}
+
+std::string file_bytes(const std::filesystem::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), {}};
+}
+
+// The atlases are baked once for the images of one scene (they took about 20 s an
+// image at seed 004's size): another view reuses them; another scene's foliage or
+// stems, or another appearance, get their own; and the first scene, after two others
+// (more than are kept), gets its own bytes again.
+TEST(CyclesRender, TheAtlasesAreTheScenesOwnWhateverWasRenderedBefore) {
+  const Fixture a(40, 30), b(40, 30, 5, 10), c(40, 30, 4, 10);  // c: a's bunch, other foliage
+  CyclesParams cp;
+  cp.sandbox = sandbox_here();
+  cp.leaf_texels = 16;
+  const FakeBlender fake;
+  const auto atlases = [&](const Fixture& f, const AppearanceParams& look, const std::string& work,
+                           const Camera* view = nullptr) {
+    cycles_render(f.scene, view ? *view : f.cam, f.light, look, f.camera, 0.006, cp, 1, fake.t.path / work);
+    std::vector<std::uint64_t> digests;  // FNV-1a of each atlas file, so that a failure prints little
+    for (const char* name : {"leaf_albedo.png", "leaf_transmittance.png", "wood.png"}) {
+      const std::string bytes = file_bytes(fake.t.path / work / name);
+      EXPECT_GT(bytes.size(), 100u) << work << "/" << name;
+      digests.push_back(fnv1a(bytes));
+    }
+    return digests;
+  };
+  const auto first = atlases(a, a.look, "a1");
+  Camera moved = a.cam;
+  moved.pose = look_at(a.scene.bunch_centre() - Vec3(0.1, 0.4, 0), a.scene.bunch_centre());
+  EXPECT_EQ(atlases(a, a.look, "a2", &moved), first);  // another view: the same atlases
+  const auto other = atlases(b, a.look, "b1");
+  for (int k = 0; k < 3; ++k) EXPECT_NE(other[k], first[k]) << k;  // another scene: every atlas its own
+  AppearanceParams spaced = a.look;
+  spaced.row_spacing = 3.0;  // moves the row copies' canes: only the wood atlas changes
+  const auto wider = atlases(a, spaced, "a3");
+  EXPECT_EQ(wider[0], first[0]);
+  EXPECT_EQ(wider[1], first[1]);
+  EXPECT_NE(wider[2], first[2]);
+  EXPECT_EQ(atlases(b, a.look, "b2"), other);
+  const auto moved_canes = atlases(c, a.look, "c1");
+  EXPECT_NE(moved_canes[0], first[0]);
+  EXPECT_NE(moved_canes[2], first[2]);
+  AppearanceParams veined = a.look;
+  veined.vein_contrast = 1.5;  // only the leaf albedo changes
+  const auto veins = atlases(a, veined, "a4");
+  EXPECT_NE(veins[0], first[0]);
+  EXPECT_EQ(veins[1], first[1]);
+  EXPECT_EQ(veins[2], first[2]);
+  EXPECT_EQ(atlases(a, a.look, "a5"), first);  // baked again after two others: the same bytes
 }
 
 bool have_blender() { return !find_program("blender").empty(); }
