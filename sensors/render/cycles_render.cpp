@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -132,24 +133,43 @@ LeafFans leaf_fans(const Foliage& f) {
 template <class Value>
 class AtlasMemo {
  public:
+  // The value for `inputs`: made by `make` (outside the lock) unless kept or being
+  // made by another thread, whose result (or exception) is then shared.
   template <class Make>
   std::shared_ptr<const Value> get(const std::string& inputs, Make make) {
-    {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      for (const auto& [k, v] : entries_)
-        if (k == inputs) return v;
+    std::unique_lock<std::mutex> lock(mutex_);
+    const auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.inputs == inputs; });
+    if (it != entries_.end()) {
+      std::rotate(entries_.begin(), it, it + 1);  // the most recently used first
+      const Future f = entries_.front().value;
+      lock.unlock();
+      return f.get();
     }
-    auto made = std::make_shared<const Value>(make());
-    const std::lock_guard<std::mutex> lock(mutex_);
-    entries_.insert(entries_.begin(), {inputs, made});
+    std::promise<std::shared_ptr<const Value>> promise;
+    entries_.insert(entries_.begin(), Entry{inputs, promise.get_future().share()});
     if (entries_.size() > kKept) entries_.pop_back();
-    return made;
+    lock.unlock();
+    try {
+      auto made = std::make_shared<const Value>(make());
+      promise.set_value(made);
+      return made;
+    } catch (...) {
+      promise.set_exception(std::current_exception());
+      lock.lock();
+      std::erase_if(entries_, [&](const Entry& e) { return e.inputs == inputs; });
+      throw;
+    }
   }
 
  private:
+  using Future = std::shared_future<std::shared_ptr<const Value>>;
+  struct Entry {
+    std::string inputs;
+    Future value;
+  };
   static constexpr std::size_t kKept = 2;  // two cases at --threads 2 may render two scenes at once
   std::mutex mutex_;
-  std::vector<std::pair<std::string, std::shared_ptr<const Value>>> entries_;  // newest first
+  std::vector<Entry> entries_;  // the most recently used first
 };
 
 void put_bytes(std::string& out, const void* p, std::size_t n) { out.append(static_cast<const char*>(p), n); }
@@ -347,6 +367,8 @@ CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const
   if (n_leaves > 0) {
     std::string inputs = appearance_bytes(look);
     put_bytes(inputs, &T, sizeof T);
+    const std::size_t sizes[3] = {f.vertices.size(), f.triangles.size(), f.triangle_colour.size()};
+    put_bytes(inputs, sizes, sizeof sizes);
     for (const Vec3& v : f.vertices) put_vec3(inputs, v);
     put_bytes(inputs, f.triangles.data(), f.triangles.size() * sizeof(f.triangles[0]));
     for (const Rgb& c : f.triangle_colour) put_bytes(inputs, &c, sizeof c);
