@@ -227,6 +227,7 @@ TEST(CyclesRender, TheAtlasesAreTheScenesOwnWhateverWasRenderedBefore) {
   CyclesParams cp;
   cp.sandbox = sandbox_here();
   cp.leaf_texels = 16;
+  cp.wood_texel = 0.002;  // a quarter of the default's texels each way: the test's time is the atlases'
   const FakeBlender fake;
   const auto atlases = [&](const Fixture& f, const AppearanceParams& look, const std::string& work,
                            const Camera* view = nullptr, const CyclesParams* params = nullptr,
