@@ -127,7 +127,7 @@ LeafFans leaf_fans(const Foliage& f) {
 
 // The atlases depend on the scene and the appearance, not on the view, the light or
 // the samples: a pair's, a rig's and a sweep's images share them. Baking and encoding
-// seed 004's leaf atlases (2 x 4352^2 16-bit RGB texels at 260 leaves) took about 20 s
+// seed 004's leaf atlases (2 x 4352^2 16-bit RGB texels at 260 leaves) took about 25 s
 // an image, a cache hit included; so each is made once for the last few inputs, keyed
 // by the inputs' bytes themselves (compared whole, not by a hash).
 template <class Value>

@@ -22,6 +22,7 @@
 #include "synth/fnv1a.h"
 #include "synth/foliage.h"
 #include "synth/generate.h"
+#include "synth/read_regular_file.h"
 #include "synth/temp_folder.h"
 
 namespace grapebench {
@@ -212,11 +213,6 @@ TEST(CyclesRender, TheCacheAnswersTheSameInputWithoutBlenderAndNoOtherInput) {
   EXPECT_EQ(one.linear, two.linear);
 }
 
-std::string file_bytes(const std::filesystem::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), {}};
-}
-
 // The atlases are baked once for the images of one scene (they took about 25 s an
 // image at seed 004's size): another view reuses them; another scene's foliage (its
 // leaves or only a leaf's colour) or stems, another appearance or another texel size
@@ -236,7 +232,7 @@ TEST(CyclesRender, TheAtlasesAreTheScenesOwnWhateverWasRenderedBefore) {
                   1, fake.t.path / work);
     std::vector<std::uint64_t> digests;  // FNV-1a of each atlas file, so that a failure prints little
     for (const char* name : {"leaf_albedo.png", "leaf_transmittance.png", "wood.png"}) {
-      const std::string bytes = file_bytes(fake.t.path / work / name);
+      const std::string bytes = read_regular_file(fake.t.path / work / name, std::size_t{1} << 30);
       EXPECT_GT(bytes.size(), 100u) << work << "/" << name;
       digests.push_back(fnv1a(bytes));
     }
