@@ -2,6 +2,7 @@
 #include "algorithms/stereo/colmap_sfm.h"
 #include "bench/heap_meter.h"
 #include "file_text.h"
+#include "scratch.h"
 #include "sensors/render/cycles_render.h"
 #include "synth/confined_program.h"
 #include "synth/params.h"
@@ -76,26 +77,26 @@ TEST(Cli, UsageErrorsExitTwoAndHelpZero) {
 }
 
 TEST(Cli, BadInputGivesAClearErrorAndExitCode) {
-  CommandResult r = run_cli("synth --set compactness=3 --no-mesh --out /tmp/grapebench_cli_test");
+  const std::string out = " --out " + scratch("cli_test").string();
+  CommandResult r = run_cli("synth --set compactness=3 --no-mesh" + out);
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_NE(r.out.find("compactness"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("[0, 1]"), std::string::npos) << r.out;
-  r = run_cli("synth --set nonsense=1 --no-mesh --out /tmp/grapebench_cli_test");
+  r = run_cli("synth --set nonsense=1 --no-mesh" + out);
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_NE(r.out.find("unknown parameter 'nonsense'"), std::string::npos) << r.out;
-  r = run_cli("synth " GRAPEBENCH_SOURCE_DIR "/CMakeLists.txt --out /tmp/grapebench_cli_test");
+  r = run_cli("synth " GRAPEBENCH_SOURCE_DIR "/CMakeLists.txt" + out);
   EXPECT_NE(r.status, 0) << r.out;
   // Before any bunch is generated, naming the option and its range (NaN included).
   for (const char* alpha : {"0.0001", "nan", "0.2", "-1"}) {
-    r = run_cli(std::string("synth --alpha-wrap ") + alpha + " --no-mesh --out /tmp/grapebench_cli_test");
+    r = run_cli(std::string("synth --alpha-wrap ") + alpha + " --no-mesh" + out);
     EXPECT_EQ(r.status, 2) << alpha << "\n" << r.out;
     EXPECT_NE(r.out.find("--alpha-wrap: 0 (off) or a carving radius in [0.0005, 0.05] m"), std::string::npos) << r.out;
   }
 }
 
 TEST(Cli, ScanWritesEveryFileOfEveryView) {
-  const std::string out = "/tmp/grapebench_cli_scan";
-  std::filesystem::remove_all(out);
+  const std::string out = scratch("cli_scan").string();
   const CommandResult r = run_cli("scan " GRAPEBENCH_SOURCE_DIR "/scenes/seed002_kinect_bottom.yaml --bunch 1 --out " + out);
   ASSERT_EQ(r.status, 0) << r.out;
   const std::string dir = out + "/seed002_kinect_bottom/bunch_0001/";
@@ -110,7 +111,7 @@ TEST(Cli, ScanWritesEveryFileOfEveryView) {
 }
 
 TEST(Cli, RunOnTheDefaultSuiteSummarises) {
-  const CommandResult r = run_cli("run " GRAPEBENCH_SOURCE_DIR "/scenes/default.yaml --out /tmp/grapebench_cli_run");
+  const CommandResult r = run_cli("run " GRAPEBENCH_SOURCE_DIR "/scenes/default.yaml --out " + scratch("cli_run").string());
   EXPECT_EQ(r.status, 0) << r.out;
   // The leaderboard names every estimator of the suite, and the files are there.
   for (const char* name : {"GM", "CH", "AS", "VB_10mm", "VB_5mm", "PCA_box", "report.html"}) {
@@ -121,15 +122,15 @@ TEST(Cli, RunOnTheDefaultSuiteSummarises) {
 
 TEST(Cli, AKilledRunResumesToTheResultsOfAnUninterruptedOne) {
   const std::string scene = GRAPEBENCH_SOURCE_DIR "/scenes/default.yaml";
-  ASSERT_EQ(run_cli("run " + scene + " --out /tmp/grapebench_cli_whole --no-resume --quiet").status, 0);
-  std::system("rm -rf /tmp/grapebench_cli_killed");
+  const std::string whole = scratch("cli_whole").string(), killed = scratch("cli_killed").string();
+  ASSERT_EQ(run_cli("run " + scene + " --out " + whole + " --no-resume --quiet").status, 0);
   // SIGKILL part-way: no chance to clean up; finished cases are on disk.
-  std::system(("timeout -s KILL 1.5 " GRAPEBENCH_EXE " run " + scene + " --out /tmp/grapebench_cli_killed --quiet "
+  std::system(("timeout -s KILL 1.5 " GRAPEBENCH_EXE " run " + scene + " --out " + killed + " --quiet "
                ">/dev/null 2>&1").c_str());
-  const CommandResult resumed = run_cli("run " + scene + " --out /tmp/grapebench_cli_killed --quiet");
+  const CommandResult resumed = run_cli("run " + scene + " --out " + killed + " --quiet");
   ASSERT_EQ(resumed.status, 0) << resumed.out;
-  EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/results.csv"), slurp("/tmp/grapebench_cli_whole/default/results.csv"));
-  EXPECT_EQ(slurp("/tmp/grapebench_cli_killed/default/summary.json"), slurp("/tmp/grapebench_cli_whole/default/summary.json"));
+  EXPECT_EQ(slurp(killed + "/default/results.csv"), slurp(whole + "/default/results.csv"));
+  EXPECT_EQ(slurp(killed + "/default/summary.json"), slurp(whole + "/default/summary.json"));
 }
 
 // Reproducer: a run stopped by SIGTERM or Ctrl-C left its external program running to
@@ -212,8 +213,7 @@ TEST(Cli, AStoppedRunLeavesNoProgramAndNoTemporaryFolder) {
 // the "other build" is this binary with a byte appended (nothing rebuilt).
 TEST(Cli, CasesOfAnotherBuildAreRecomputedUnlessReuseIsAsked) {
   const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
-  const std::string out = "/tmp/grapebench_cli_build_id", other = "/tmp/grapebench_cli_other_build";
-  std::filesystem::remove_all(out);
+  const std::string out = scratch("cli_build_id").string(), other = scratch("cli_other_build").string();
   std::filesystem::copy_file(GRAPEBENCH_EXE, other, std::filesystem::copy_options::overwrite_existing);
   std::ofstream(other, std::ios::app | std::ios::binary) << '\n';
   const CommandResult first = run_cli("run " + scene + " --out " + out + " --quiet");
@@ -249,8 +249,7 @@ TEST(Cli, CasesOfAnotherBuildAreRecomputedUnlessReuseIsAsked) {
 // matching) made a resumed run index the conditions unchecked and crash.
 TEST(Cli, ACaseFileWithForeignIndicesIsRecomputedNotTrusted) {
   const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
-  const std::string out = "/tmp/grapebench_cli_condition";
-  std::filesystem::remove_all(out);
+  const std::string out = scratch("cli_condition").string();
   ASSERT_EQ(run_cli("run " + scene + " --out " + out + " -q").status, 0);
   for (const char* value : {"999", "2147483647", "-1"}) {
     const std::string file = out + "/two_bunches_hull/cases/c0000_b0000.json";
@@ -273,8 +272,7 @@ TEST(Cli, ACaseFileWithForeignIndicesIsRecomputedNotTrusted) {
 // by the merge, with the shard count the finished shard wrote, so it can be rerun alone.
 TEST(Cli, MergeNamesTheShardWhoseFolderIsAbsent) {
   const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
-  const std::string dir = "/tmp/grapebench_cli_missing_shard";
-  std::filesystem::remove_all(dir);
+  const std::string dir = scratch("cli_missing_shard").string();
   const std::string from = " --from " + dir + "/0/two_bunches_hull --from " + dir + "/1/two_bunches_hull";
   ASSERT_EQ(run_cli("run " + scene + " --shard 0/2 --out " + dir + "/0 -q").status, 0);
   CommandResult r = run_cli("merge " + scene + from + " --out " + dir + "/merged");
@@ -301,8 +299,7 @@ TEST(Cli, AHostileExternalProgramChangesNothingAndLeavesNothingRunning) {
   if (std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
   namespace fs = std::filesystem;
-  const fs::path dir = "/tmp/grapebench_cli_hostile", out = dir / "out", outside = dir / "outside";
-  fs::remove_all(dir);
+  const fs::path dir = scratch("cli_hostile"), out = dir / "out", outside = dir / "outside";
   fs::create_directories(outside);
   const std::string marker = "gbhostile" + std::to_string(getpid());
   const std::string attack =
@@ -364,7 +361,7 @@ TEST(Cli, ASandboxedProgramFindsNoTruth) {
   namespace fs = std::filesystem;
   // `shared` (readable by the programs) holds --out; the other run's folder is elsewhere.
   const fs::path shared = fs::absolute("grapebench_truth_search"), out = shared / "out",
-                 other = "/tmp/grapebench_truth_other";
+                 other = scratch("truth_other");
   fs::remove_all(shared);
   fs::remove_all(other);
   fs::create_directories(other);
@@ -425,7 +422,7 @@ TEST(Cli, ColmapAndBlenderSeeNoTruthEither) {
   if (std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "bwrap cannot make namespaces on this machine";
   namespace fs = std::filesystem;
-  const fs::path planted = "/tmp/grapebench_truth_planted";
+  const fs::path planted = scratch("truth_planted");
   fs::create_directories(planted / "cases");
   std::ofstream(planted / "cases" / "c0000_b0000.json") << "{}\n";
   const char* home = std::getenv("HOME");
@@ -458,8 +455,7 @@ TEST(Cli, ColmapAndBlenderSeeNoTruthEither) {
 // and answers 0, 1 (a gate's verdict) or 2 (a clear error) within 30 s.
 TEST(Cli, EverySubcommandAnswersHostileInputWithExitTwoNotACrashOrHang) {
   namespace fs = std::filesystem;
-  const fs::path dir = "/tmp/grapebench_hostile_" + std::to_string(getpid()), out = dir / "out";
-  fs::remove_all(dir);
+  const fs::path dir = scratch("hostile"), out = dir / "out";
   fs::create_directories(dir / "folder.yaml");
   const auto put = [&](const std::string& name, const std::string& bytes) {
     std::ofstream(dir / name, std::ios::binary) << bytes;
@@ -538,7 +534,7 @@ TEST(Cli, EverySubcommandAnswersHostileInputWithExitTwoNotACrashOrHang) {
     const int st = results[i].status;
     EXPECT_TRUE(st == 0 || st == 1 || st == 2) << commands[i] << " -> exit " << st << "\n" << results[i].out;
     if (st == 2) {
-      EXPECT_NE(results[i].out.find("/tmp/grapebench_hostile_"), std::string::npos) << commands[i] << "\n" << results[i].out;
+      EXPECT_NE(results[i].out.find(dir.string()), std::string::npos) << commands[i] << "\n" << results[i].out;
     }
   }
   fs::remove_all(dir);
@@ -549,8 +545,7 @@ TEST(Cli, EverySubcommandAnswersHostileInputWithExitTwoNotACrashOrHang) {
 // first's run is there; the first (edited, even) runs on; another `name` is fine.
 TEST(Cli, ASecondSceneOfTheSameNameIsRefusedOnOneOut) {
   namespace fs = std::filesystem;
-  const fs::path dir = "/tmp/grapebench_cli_twins", out = dir / "out";
-  fs::remove_all(dir);
+  const fs::path dir = scratch("cli_twins"), out = dir / "out";
   fs::create_directories(dir / "a");
   fs::create_directories(dir / "b");
   const std::string scene = "name: twin\nseed: 3\nbunches:\n  - preset: table-red\n    count: 1\n"
@@ -575,8 +570,7 @@ TEST(Cli, ASecondSceneOfTheSameNameIsRefusedOnOneOut) {
 // the case is recomputed and the run says so.
 TEST(Cli, AnEditedCaseFileIsRecomputedAndTheRunSaysSo) {
   const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
-  const std::string out = "/tmp/grapebench_cli_tampered", file = out + "/two_bunches_hull/cases/c0000_b0001.json";
-  std::filesystem::remove_all(out);
+  const std::string out = scratch("cli_tampered").string(), file = out + "/two_bunches_hull/cases/c0000_b0001.json";
   ASSERT_EQ(run_cli("run " + scene + " --out " + out + " -q").status, 0);
   const std::string results = slurp(out + "/two_bunches_hull/results.csv"), original = slurp(file);
   const std::vector<std::pair<std::string, std::string>> edits = {
@@ -600,8 +594,7 @@ TEST(Cli, AnEditedCaseFileIsRecomputedAndTheRunSaysSo) {
 // case), and the files are those of one run.
 TEST(Cli, TwoConcurrentRunsOnOneOutComputeEachCaseOnce) {
   namespace fs = std::filesystem;
-  const fs::path dir = "/tmp/grapebench_cli_concurrent";
-  fs::remove_all(dir);
+  const fs::path dir = scratch("cli_concurrent");
   fs::create_directories(dir);
   std::ofstream(dir / "six.yaml") << "name: six\nseed: 5\nbunches:\n  - preset: table-red\n    count: 6\n"
                                      "sensor:\n  type: ideal\n  width: 160\n  height: 120\n"
@@ -653,8 +646,7 @@ TEST(Cli, TwoConcurrentRunsOnOneOutComputeEachCaseOnce) {
 TEST(Cli, MalformedBaselinesAndCaseFilesAreErrorsNotCrashes) {
   namespace fs = std::filesystem;
   const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
-  const fs::path dir = "/tmp/grapebench_cli_baselines";
-  fs::remove_all(dir);
+  const fs::path dir = scratch("cli_baselines");
   ASSERT_EQ(run_cli("run " + scene + " --out " + (dir / "out").string() + " -q").status, 0);
   const std::string run = (dir / "out" / "two_bunches_hull").string();
   const std::string deep = "{\"scores\": " + std::string(1000000, '[') + std::string(1000000, ']') + "}";
@@ -722,8 +714,7 @@ TEST(Cli, LongPassesStreamTheirFramesInsteadOfHoldingThem) {
   // AddressSanitizer's quarantine keeps freed frames resident: no figure to compare.
   if (!heap_meter_available()) GTEST_SKIP() << "sanitizer build";
   namespace fs = std::filesystem;
-  const fs::path dir = "/tmp/grapebench_cli_stream";
-  fs::remove_all(dir);
+  const fs::path dir = scratch("cli_stream");
   fs::create_directories(dir);
   const auto scene = [&](int frames) {
     const fs::path f = dir / ("pass" + std::to_string(frames) + ".yaml");
@@ -750,7 +741,7 @@ TEST(Cli, LongPassesStreamTheirFramesInsteadOfHoldingThem) {
 // Issue 23's reproducers: `--threshold nan` turned the gate off and negative times
 // were compared.
 TEST(Cli, CompareBenchRejectsNanThresholdsAndNonPositiveTimes) {
-  const std::string good = "/tmp/grapebench_cli_bench_good.json", bad = "/tmp/grapebench_cli_bench_bad.json";
+  const std::string good = scratch("cli_bench_good.json").string(), bad = scratch("cli_bench_bad.json").string();
   const auto write = [](const std::string& path, const char* time) {
     std::ofstream(path) << "{\"context\":{},\"benchmarks\":[{\"name\":\"a\",\"run_type\":\"iteration\",\"real_time\":"
                         << time << ",\"cpu_time\":1.0,\"time_unit\":\"ns\",\"iterations\":1}]}";
@@ -774,27 +765,28 @@ TEST(Cli, VersionQuietAndVerboseWorkEverywhere) {
   EXPECT_NE(v.out.find("grapebench 0."), std::string::npos) << v.out;
   EXPECT_NE(v.out.find("build "), std::string::npos) << v.out;
   const std::string scene = GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml";
+  const std::string out = " --out " + scratch("cli_quiet").string();
   // -q before or after the subcommand: no progress lines.
   for (const std::string& args : {"-q scan " + scene, "scan " + scene + " -q"}) {
-    const CommandResult r = run_cli(args + " --out /tmp/grapebench_cli_quiet");
+    const CommandResult r = run_cli(args + out);
     EXPECT_EQ(r.status, 0) << r.out;
     EXPECT_EQ(r.out.find("ETA"), std::string::npos) << r.out;
   }
-  const CommandResult verbose = run_cli("scan " + scene + " -v --out /tmp/grapebench_cli_quiet");
+  const CommandResult verbose = run_cli("scan " + scene + " -v" + out);
   EXPECT_NE(verbose.out.find("bunch 2/2"), std::string::npos) << verbose.out;
-  const CommandResult synth = run_cli("synth --count 2 --no-mesh -v --out /tmp/grapebench_cli_quiet");
+  const CommandResult synth = run_cli("synth --count 2 --no-mesh -v" + out);
   EXPECT_NE(synth.out.find("ETA"), std::string::npos) << synth.out;
   // A bunch the scene does not have is an input error, not an empty success.
-  const CommandResult missing = run_cli("scan " + scene + " --bunch 5 --out /tmp/grapebench_cli_quiet");
+  const CommandResult missing = run_cli("scan " + scene + " --bunch 5" + out);
   EXPECT_EQ(missing.status, 2) << missing.out;
   EXPECT_NE(missing.out.find("--bunch 5"), std::string::npos) << missing.out;
 }
 
 TEST(Cli, EstimateRejectsWhatItCannotReadWithExitTwo) {
-  const std::string ply = "/tmp/grapebench_cli_estimate.ply";
+  const std::string ply = scratch("cli_estimate.ply").string(), json = scratch("cli_estimate.json").string();
   std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
                         "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
-  const CommandResult ok = run_cli("estimate " + ply + " -e convex_hull --json /tmp/grapebench_cli_estimate.json");
+  const CommandResult ok = run_cli("estimate " + ply + " -e convex_hull --json " + json);
   EXPECT_EQ(ok.status, 0) << ok.out;
   EXPECT_NE(ok.out.find("166666.667 cm3"), std::string::npos) << ok.out;  // the unit tetrahedron: 1/6 m3
   const struct {
@@ -815,8 +807,7 @@ TEST(Cli, EstimateRejectsWhatItCannotReadWithExitTwo) {
 // took 261 s of the sanitizer stage for the same property: check's exit codes on a
 // whole run's folder. The default suite's own gate is scripts/regression_gate.sh.
 TEST(Cli, CheckExitsOneOnARegressionAndZeroOtherwise) {
-  const std::string out = "/tmp/grapebench_cli_check";
-  std::filesystem::remove_all(out);
+  const std::string out = scratch("cli_check").string();
   const CommandResult run =
       run_cli("run " GRAPEBENCH_SOURCE_DIR "/tests/bench/data/two_bunches_hull.yaml --out " + out + " --quiet");
   ASSERT_EQ(run.status, 0) << run.out;

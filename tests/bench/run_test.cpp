@@ -23,6 +23,7 @@
 #include "sensors/render/cycles_render.h"
 #include "synth/confined_program.h"
 #include "file_text.h"
+#include "scratch.h"
 #include "scene_error.h"
 
 namespace grapebench {
@@ -53,11 +54,7 @@ estimators:
   - type: pca_box
 )";
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(testing::TempDir()) / ("grapebench_run_test_" + name);
-  fs::remove_all(d);
-  return d;
-}
+fs::path fresh_dir(const std::string& name) { return scratch("run_test_" + name); }
 
 RunOptions quiet(const fs::path& out, int threads = 1) {
   RunOptions o;

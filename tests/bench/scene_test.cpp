@@ -1,5 +1,6 @@
 #include "bench/scene_file.h"
 #include "file_text.h"
+#include "scratch.h"
 #include "scene_error.h"
 #include "bench/synth_run.h"
 
@@ -145,8 +146,7 @@ TEST(Scene, SensorRigAndBackgroundSectionsAreStrict) {
 
 TEST(SynthRun, OutputsAreByteIdenticalAtAnyThreadCount) {
   const Scene s = parse_scene("seed: 5\nbunches:\n  - preset: wine-red\n    count: 3\n", "t.yaml");
-  const auto base = std::filesystem::temp_directory_path() / "grapebench_threads_test";
-  std::filesystem::remove_all(base);
+  const auto base = scratch("threads_test");
   SynthOptions one, two;
   one.out = base / "one";
   one.threads = 1;
@@ -173,8 +173,7 @@ TEST(SynthRun, OutputsAreByteIdenticalAtAnyThreadCount) {
 // column is empty and the block absent.
 TEST(SynthRun, TheAlphaWrapReachesTheJsonAndTheSummary) {
   const Scene s = parse_scene("seed: 5\nbunches:\n  - preset: wine-red\n    count: 1\n", "t.yaml");
-  const auto base = std::filesystem::temp_directory_path() / "grapebench_alpha_wrap_test";
-  std::filesystem::remove_all(base);
+  const auto base = scratch("alpha_wrap_test");
   SynthOptions o;
   o.out = base;
   o.write_mesh = false;
