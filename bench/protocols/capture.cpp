@@ -1,6 +1,7 @@
 #include "bench/protocols/capture.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "synth/generate.h"
 #include "synth/rng.h"
@@ -25,10 +26,22 @@ CaptureScene capture_scene(const Scene& scene, const BunchJob& job) {
   return {std::move(bunch), std::move(truth), std::move(rays)};
 }
 
-// A case that failed, its reason for results.csv (valid UTF-8).
-void mark_failed(CaseResult& r, const std::exception& e) {
+// A case that failed: its reason, and one failed row of quantity `case` per estimator
+// carrying it, so results.csv and the leaderboard show the failure (issue 38, item 9:
+// a crashed or overrunning Blender left the case without a row, the run's tables
+// silent about it).
+void mark_failed(CaseResult& r, const std::exception& e, const std::vector<EstimatorSpec>& estimators) {
   r.ok = false;
   r.error = escape_invalid_utf8(e.what());
+  for (const EstimatorSpec& spec : estimators) {
+    EstimateRow row;
+    row.estimator = spec.name;
+    row.type = spec.type;
+    row.quantity = "case";
+    row.estimate = NAN;
+    row.error = "case failed: " + r.error;
+    r.rows.push_back(std::move(row));
+  }
 }
 
 }  // namespace
@@ -65,7 +78,7 @@ CaseResult guarded_case(const Condition& condition, int condition_index, const B
     body(r);
     r.ok = true;
   } catch (const std::exception& e) {
-    mark_failed(r, e);
+    mark_failed(r, e, condition.scene.estimators);
   }
   return r;
 }
@@ -85,7 +98,7 @@ CaseResult measure_views(const Condition& condition, int condition_index, const 
   try {
     finish(r);
   } catch (const std::exception& e) {
-    mark_failed(r, e);
+    mark_failed(r, e, condition.scene.estimators);
   }
   return r;
 }
@@ -99,7 +112,7 @@ std::vector<CaseResult> measure_views_together(std::span<const Condition* const>
   std::vector<char> failed(n, 0);
   const auto fail = [&](std::size_t c, const std::exception& e) {
     failed[c] = 1;
-    mark_failed(r[c], e);
+    mark_failed(r[c], e, conditions[c]->scene.estimators);
   };
   try {
     const Scene& scene = conditions.front()->scene;

@@ -85,6 +85,8 @@ constexpr Unit kUnits[] = {
     // Seed 004's classification rows (fractions).
     {"accuracy", "-", 1},          {"miou", "-", 1},                {"berry_tpr", "-", 1},
     {"berry_fpr", "-", 1},
+    // A failed case's row per estimator (bench/protocols/capture.cpp): no value.
+    {"case", "-", 1},
 };
 // Per-class classification rows: auc_berry, iou_leaf, ... (fractions).
 constexpr const char* kFractionPrefixes[] = {"auc_", "iou_", "precision_", "recall_"};

@@ -200,14 +200,19 @@ AtlasMemo<LeafAtlasFiles>& leaf_memo() {
 
 }  // namespace
 
-CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const Illumination& light,
-                                 const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
-                                 const CyclesParams& cycles, std::uint64_t seed, const std::filesystem::path& work) {
+std::string find_blender() {
   const char* env = std::getenv("GRAPEBENCH_BLENDER");
   const std::string blender = find_program(env && *env ? env : "blender");
   if (blender.empty())
     throw InputError("renderer: cycles needs Blender (Debian package `blender`, installed by scripts/setup.sh): " +
                      std::string(env && *env ? env : "blender") + " not found");
+  return blender;
+}
+
+CyclesRenderResult cycles_render(const RayScene& scene, const Camera& cam, const Illumination& light,
+                                 const AppearanceParams& look, const PhotoCameraParams& camera, double focal_length,
+                                 const CyclesParams& cycles, std::uint64_t seed, const std::filesystem::path& work) {
+  const std::string blender = find_blender();
   if (scene.background())
     throw InputError("renderer: cycles does not draw a background plate yet (the rig's plate or cloth); "
                      "use renderer: ray or opengl for this scene");

@@ -79,7 +79,12 @@ class CyclesCacheScope {
   bool joined_ = false;
 };
 
-// Blender is `blender` from PATH, or $GRAPEBENCH_BLENDER. `work` is a folder for the
+// Blender's path: $GRAPEBENCH_BLENDER, else `blender` from PATH. Throws InputError
+// naming the Debian package when it is not there (a run asks before its first case, so
+// a missing Blender is the run's exit 2, not a failed row per case).
+std::string find_blender();
+
+// Blender is find_blender()'s. `work` is a folder for the
 // exported scene and Blender's outputs (created; left in place). Throws InputError when
 // Blender is missing (naming the Debian package) and std::runtime_error when it fails
 // or overruns, with its reason and the tail of its output.

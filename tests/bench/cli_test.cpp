@@ -37,9 +37,10 @@ struct CommandResult {
   int status;
 };
 
-// `limit_s` > 0: killed after that many seconds (exit 124, as timeout(1) says).
-CommandResult run_cli(const std::string& args, int limit_s = 0) {
-  const std::string cmd = (limit_s > 0 ? "timeout -k 5 " + std::to_string(limit_s) + " " : std::string()) +
+// `limit_s` > 0: killed after that many seconds (exit 124, as timeout(1) says); `env`:
+// assignments before the command ("NAME=value ").
+CommandResult run_cli(const std::string& args, int limit_s = 0, const std::string& env = "") {
+  const std::string cmd = env + (limit_s > 0 ? "timeout -k 5 " + std::to_string(limit_s) + " " : std::string()) +
                           std::string(GRAPEBENCH_EXE) + " " + args + " 2>&1";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
   std::string out;
@@ -780,6 +781,15 @@ TEST(Cli, VersionQuietAndVerboseWorkEverywhere) {
   const CommandResult missing = run_cli("scan " + scene + " --bunch 5" + out);
   EXPECT_EQ(missing.status, 2) << missing.out;
   EXPECT_NE(missing.out.find("--bunch 5"), std::string::npos) << missing.out;
+}
+
+// Issue 38, item 9: Blender missing is the run's bad input, exit 2 naming the package
+// (it was a failed case each, the run exiting 0).
+TEST(Cli, ARunOnCyclesWithoutBlenderExitsTwoNamingThePackage) {
+  const CommandResult r = run_cli("run " GRAPEBENCH_SOURCE_DIR "/tests/bench/data/cycles_pair_tiny.yaml -q --out " +
+                                  scratch("cli_no_blender").string(), 0, "GRAPEBENCH_BLENDER=/nonexistent/blender ");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("needs Blender (Debian package `blender`"), std::string::npos) << r.out;
 }
 
 TEST(Cli, EstimateRejectsWhatItCannotReadWithExitTwo) {

@@ -414,6 +414,37 @@ TEST(Run, ARunRendersNoCyclesImageTwice) {
   unsetenv("GRAPEBENCH_BLENDER");
 }
 
+// Issue 38, item 9: a Blender that crashes fails its case with a row per estimator
+// carrying the reason (the case had no row at all, so results.csv was silent about
+// it); a Blender that is not there stops the run before any case, naming the package.
+TEST(Run, ACrashedBlenderIsAFailedRowAndAMissingOneStopsTheRun) {
+  if (std::system("bwrap --ro-bind / / --dev /dev --proc /proc --unshare-all true >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "bubblewrap cannot make namespaces here (Blender runs under it)";
+  const fs::path out = fresh_dir("cycles_crash"), bin = fresh_dir("cycles_crash_bin");
+  fs::create_directories(bin);
+  fs::copy_file(GRAPEBENCH_SOURCE_DIR "/tests/bench/data/fake_blender.sh", bin / "blender");
+  fs::permissions(bin / "blender", fs::perms::owner_all);
+  std::ofstream(bin / "crash") << "";
+  setenv("GRAPEBENCH_BLENDER", (bin / "blender").c_str(), 1);
+  const SceneSet set = load_scene_set(GRAPEBENCH_SOURCE_DIR "/tests/bench/data/cycles_pair_tiny.yaml");
+  EXPECT_EQ(run_scene_set(set, quiet(out)).computed, 1);
+  const std::string csv = slurp(out / "results.csv");
+  EXPECT_NE(csv.find(",luo_eq6,luo2016_stereo,case,-,NaN,NaN,NaN,NaN,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\"case failed: cycles: Blender failed (killed by signal 11"), std::string::npos) << csv;
+  setenv("GRAPEBENCH_BLENDER", (bin / "absent").c_str(), 1);
+  const fs::path none = fresh_dir("cycles_missing");
+  try {
+    run_scene_set(set, quiet(none));
+    ADD_FAILURE() << "a run without Blender went on";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Debian package `blender`"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_empty(none / "cases"));
+  // Its cases all reused, a run needs no Blender.
+  EXPECT_EQ(run_scene_set(set, quiet(out)).reused, 1);
+  unsetenv("GRAPEBENCH_BLENDER");
+}
+
 TEST(Run, ACaseWithAFailedRowsNanEstimateReadsBack) {
   CaseResult c;
   c.key = "k";

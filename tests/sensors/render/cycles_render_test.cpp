@@ -19,6 +19,7 @@
 #include "sensors/ideal.h"
 #include "sensors/render/ray_render.h"
 #include "synth/confined_program.h"
+#include "synth/processes_with.h"
 #include "synth/fnv1a.h"
 #include "synth/foliage.h"
 #include "synth/generate.h"
@@ -104,11 +105,18 @@ TEST(CyclesRender, ACrashAnOverrunAndAWrongAnswerAreNamedFailures) {
     EXPECT_NE(e.find("signal"), std::string::npos) << e;
   });
   cp.time_limit = 1;
-  with_fake_blender("sleep 30 & sleep 30", [&](const std::filesystem::path& dir) {
+  // A child in the background too, marked so that it can be looked for: none is left.
+  const std::string marker = "gb-overrun-" + std::to_string(getpid());
+  with_fake_blender("sh -c 'sleep 30' " + marker + " & touch child_started; sleep 30", [&](const std::filesystem::path& dir) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::string e = failure_of(f, cp, dir / "w2");
     EXPECT_NE(e.find("time limit of 1"), std::string::npos) << e;
     EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10);
+    bool started = false;  // so that the count below can fail
+    for (const auto& p : std::filesystem::recursive_directory_iterator(dir / "w2"))
+      started = started || p.path().filename() == "child_started";
+    EXPECT_TRUE(started);
+    EXPECT_EQ(processes_with(marker), 0);
   });
   cp.time_limit = 60;
   // Exits 0 with a colour file of the wrong size: named, with the sizes.
