@@ -5,7 +5,9 @@
 // of seed 001's left camera. Both images go through the same camera chain with the
 // same exposure and noise. Per view: the label agreement of Cycles' object-index pass
 // with the exact labels (IoU per class), the CIEDE2000 difference of each class's mean
-// colour, luminance SSIM, and the luma gradient across berry boundaries; a CSV, the
+// colour, luminance SSIM, and the luma gradient across berry boundaries (its 10th, 50th
+// and 90th percentiles for each renderer, and the two distributions' Kolmogorov-Smirnov
+// distance); a CSV, the
 // views as PNGs (opengl | ray | cycles) and a summary table.
 //   build/bench/grapebench_render_agreement --out build/agreement [--scale 1] [--samples 64] [--views 27]
 #include <CLI/CLI.hpp>
@@ -68,7 +70,10 @@ int class_of(std::uint8_t part) {
 }
 const char* kClass[] = {"berry", "stem", "foliage", "background"};
 
-double boundary_gradient_median(const std::vector<std::uint8_t>& rgb, const std::vector<std::uint8_t>& label, int W, int H) {
+// The luma gradient magnitude (Sobel, 8-bit units) at every berry pixel on a berry's
+// boundary (a 4-neighbour not a berry), sorted: its distribution, not only its median
+// (issue 38, item 5: "the distribution of gradient magnitude across berry boundaries").
+std::vector<double> boundary_gradients(const std::vector<std::uint8_t>& rgb, const std::vector<std::uint8_t>& label, int W, int H) {
   cv::Mat y(H, W, CV_32F);
   for (int i = 0; i < W * H; ++i) y.at<float>(i) = 0.2126f * rgb[3 * i] + 0.7152f * rgb[3 * i + 1] + 0.0722f * rgb[3 * i + 2];
   cv::Mat gx, gy;
@@ -80,9 +85,30 @@ double boundary_gradient_median(const std::vector<std::uint8_t>& rgb, const std:
     for (int u = 1; u + 1 < W; ++u)
       if (berry(u, v) && (!berry(u - 1, v) || !berry(u + 1, v) || !berry(u, v - 1) || !berry(u, v + 1)))
         g.push_back(std::hypot(gx.at<float>(v, u), gy.at<float>(v, u)));
-  if (g.empty()) return std::nan("");
-  std::nth_element(g.begin(), g.begin() + static_cast<long>(g.size() / 2), g.end());
-  return g[g.size() / 2];
+  std::sort(g.begin(), g.end());
+  return g;
+}
+
+// The q-quantile of a sorted sample (nearest rank); NaN when empty.
+double quantile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return std::nan("");
+  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(q * static_cast<double>(sorted.size())))];
+}
+
+// Two-sample Kolmogorov-Smirnov distance of two sorted samples: the largest gap between
+// their empirical distribution functions, 0 (the same) to 1 (disjoint); NaN when either
+// is empty.
+double ks_distance(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.empty() || b.empty()) return std::nan("");
+  double d = 0;
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    const double x = std::min(a[i], b[j]);
+    while (i < a.size() && a[i] <= x) ++i;
+    while (j < b.size() && b[j] <= x) ++j;
+    d = std::max(d, std::abs(static_cast<double>(i) / a.size() - static_cast<double>(j) / b.size()));
+  }
+  return d;
 }
 
 }  // namespace
@@ -115,7 +141,7 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(out);
     std::ofstream csv(std::filesystem::path(out) / "agreement.csv");
     csv << "view,sky_filter,sky_stride,variety,light,distance_m,iou_berry,iou_stem,iou_foliage,de_berry,de_stem,de_foliage,de_background,"
-           "ssim,grad_ray,grad_cycles,ray_s,cycles_s\n";
+           "ssim,grad_ray,grad_cycles,ray_s,cycles_s,grad_ray_p10,grad_ray_p90,grad_cycles_p10,grad_cycles_p90,grad_ks\n";
     const std::vector<View> set = validation_set();
     std::vector<std::size_t> chosen;
     for (int k = 0; k < count; ++k) chosen.push_back(static_cast<std::size_t>(k));
@@ -186,11 +212,14 @@ int main(int argc, char** argv) {
           de[cls] = m >= 20 ? ciede2000(linear_rgb_to_lab(sr / m), linear_rgb_to_lab(sc / m)) : std::nan("");
         }
         const double ssim = luminance_ssim(dr.rgb, dc.rgb, W, H);
-        const double gr = boundary_gradient_median(dr.rgb, label, W, H), gc = boundary_gradient_median(dc.rgb, label, W, H);
-        char line[512];
-        std::snprintf(line, sizeof line, "%zu,%d,%d,%s,%s,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.4f,%.1f,%.1f,%.2f,%.2f\n", k,
+        const std::vector<double> gray = boundary_gradients(dr.rgb, label, W, H), gcyc = boundary_gradients(dc.rgb, label, W, H);
+        const double gr = quantile(gray, 0.5), gc = quantile(gcyc, 0.5), ks = ks_distance(gray, gcyc);
+        char line[640];
+        std::snprintf(line, sizeof line,
+                      "%zu,%d,%d,%s,%s,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.4f,%.1f,%.1f,%.2f,%.2f,%.1f,%.1f,%.1f,%.1f,%.4f\n", k,
                       sky_filter, sky_stride, v.variety.c_str(), v.light_name.c_str(), v.distance, iou[0], iou[1], iou[2], de[0], de[1], de[2], de[3],
-                      ssim, gr, gc, ray_s, cyc.seconds);
+                      ssim, gr, gc, ray_s, cyc.seconds, quantile(gray, 0.1), quantile(gray, 0.9), quantile(gcyc, 0.1),
+                      quantile(gcyc, 0.9), ks);
         csv << line;
         std::fputs(line, stdout);
         std::fflush(stdout);
@@ -204,6 +233,9 @@ int main(int argc, char** argv) {
         for (int cls = 0; cls < 4; ++cls) keep(std::string("de_") + kClass[cls], de[cls]);
         keep("ssim", ssim);
         keep("grad_ratio", gr / gc);
+        keep("grad_p10_ratio", quantile(gray, 0.1) / quantile(gcyc, 0.1));
+        keep("grad_p90_ratio", quantile(gray, 0.9) / quantile(gcyc, 0.9));
+        keep("grad_ks", ks);
         keep("ray_s", ray_s);
         keep("cycles_s", cyc.seconds);
       }

@@ -45,6 +45,8 @@ def main():
                 failures.append(f"{name}: {key} {x} < 0.97")
         # Every view scored something: a renderer that drew nothing would pass the rest.
         assert not math.isnan(float(r["de_berry"])), name
+        # The boundary gradients' distributions were compared (no target: docs/sensors.md).
+        assert 0 <= float(r["grad_ks"]) <= 1, (name, r["grad_ks"])
     for line in failures:
         print(line)
     return 1 if failures else 0
