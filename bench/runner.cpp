@@ -261,10 +261,10 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   // with another estimator, renders none twice (sensors/render/cycles_render.h). Their
   // object-index images are per-berry truth: hidden from programs like the run folder.
   std::optional<CyclesCacheScope> cache;
-  const auto on_cycles = [](const Condition& c) {
-    return c.scene.sensor && c.scene.sensor->describe().value("renderer", std::string()) == "cycles";
-  };
-  const bool cycles = std::any_of(set.conditions.begin(), set.conditions.end(), on_cycles);
+  std::vector<char> on_cycles;  // per condition, its sensor renders on Cycles
+  for (const Condition& c : set.conditions)
+    on_cycles.push_back(c.scene.sensor && c.scene.sensor->describe().value("renderer", std::string()) == "cycles");
+  const bool cycles = std::find(on_cycles.begin(), on_cycles.end(), 1) != on_cycles.end();
   if (cycles) {
     const fs::path folder = o.cycles_cache.empty() ? o.out / "cycles_cache" : o.cycles_cache;
     fs::create_directories(folder);
@@ -294,7 +294,7 @@ RunOutcome run_scene_set(const SceneSet& set, const RunOptions& o) {
   // A case to render on Cycles: Blender must be there (exit 2 naming the package, before
   // any case; each case would otherwise fail alone with the same reason).
   const bool renders_on_cycles = std::any_of(pending.begin(), pending.end(), [&](std::size_t i) {
-    return on_cycles(set.conditions[static_cast<std::size_t>(refs[i].condition)]);
+    return on_cycles[static_cast<std::size_t>(refs[i].condition)] != 0;
   });
   if (renders_on_cycles) find_blender();
   Progress progress("case", static_cast<int>(pending.size()), o.verbosity);

@@ -213,13 +213,14 @@ int main(int argc, char** argv) {
         }
         const double ssim = luminance_ssim(dr.rgb, dc.rgb, W, H);
         const std::vector<double> gray = boundary_gradients(dr.rgb, label, W, H), gcyc = boundary_gradients(dc.rgb, label, W, H);
-        const double gr = quantile(gray, 0.5), gc = quantile(gcyc, 0.5), ks = ks_distance(gray, gcyc);
+        const double r10 = quantile(gray, 0.1), gr = quantile(gray, 0.5), r90 = quantile(gray, 0.9);
+        const double c10 = quantile(gcyc, 0.1), gc = quantile(gcyc, 0.5), c90 = quantile(gcyc, 0.9);
+        const double ks = ks_distance(gray, gcyc);
         char line[640];
         std::snprintf(line, sizeof line,
                       "%zu,%d,%d,%s,%s,%.3f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.4f,%.1f,%.1f,%.2f,%.2f,%.1f,%.1f,%.1f,%.1f,%.4f\n", k,
                       sky_filter, sky_stride, v.variety.c_str(), v.light_name.c_str(), v.distance, iou[0], iou[1], iou[2], de[0], de[1], de[2], de[3],
-                      ssim, gr, gc, ray_s, cyc.seconds, quantile(gray, 0.1), quantile(gray, 0.9), quantile(gcyc, 0.1),
-                      quantile(gcyc, 0.9), ks);
+                      ssim, gr, gc, ray_s, cyc.seconds, r10, r90, c10, c90, ks);
         csv << line;
         std::fputs(line, stdout);
         std::fflush(stdout);
@@ -233,8 +234,8 @@ int main(int argc, char** argv) {
         for (int cls = 0; cls < 4; ++cls) keep(std::string("de_") + kClass[cls], de[cls]);
         keep("ssim", ssim);
         keep("grad_ratio", gr / gc);
-        keep("grad_p10_ratio", quantile(gray, 0.1) / quantile(gcyc, 0.1));
-        keep("grad_p90_ratio", quantile(gray, 0.9) / quantile(gcyc, 0.9));
+        keep("grad_p10_ratio", r10 / c10);
+        keep("grad_p90_ratio", r90 / c90);
         keep("grad_ks", ks);
         keep("ray_s", ray_s);
         keep("cycles_s", cyc.seconds);
