@@ -18,36 +18,26 @@ on `ray`, summer-black, 363 pairs), 2.5 times the paper's 12 mm; 10 mm is a few 
 radii (the on-stalk pairs measured 2.7-3.7 mm from the axis).
 """
 import argparse
-import csv
 import re
 import statistics
 import sys
 
+import stereo_rates  # its reader: the pairs of a results.csv
+
 
 def load(paths, estimator):
-    """One dict per answered pair: station (mm), e_z (mm), axis distance (mm)."""
-    pairs = {}
-    for path in paths:
-        with open(path, newline="") as f:
-            for r in csv.DictReader(f):
-                if r["estimator"] != estimator or r["quantity"] not in ("cut_z", "cut_axis_distance"):
-                    continue
-                key = (path, r["condition"], r["bunch"], r["roi"])
-                p = pairs.setdefault(key, {})
-                if r["quantity"] == "cut_z":
-                    m = re.search(r"(\d+)mm", r["roi"])
-                    if not m:
-                        sys.exit("%s: roi %r names no station (want station_<mm>mm)" % (path, r["roi"]))
-                    p["station"] = int(m.group(1))
-                    p["ez"] = float(r["error"]) if r["estimate"] not in ("", "NaN", "nan") else None
-                else:
-                    p["axis"] = float(r["estimate"]) if r["estimate"] not in ("", "NaN", "nan") else None
+    """One dict per answered pair (stereo_rates.read's pairs): station (mm), ez, axis (mm)."""
     out = []
-    for p in pairs.values():
-        ez = p.get("ez")
-        if ez is None or ez != ez:
-            continue  # no cut, or no surface behind the detected pixel
-        out.append(p)
+    for pairs in stereo_rates.read(paths, estimator).values():
+        for p in pairs.values():
+            ez = p.get("ez")
+            if ez is None or ez != ez:
+                continue  # no cut, or no surface behind the detected pixel
+            m = re.search(r"(\d+)mm", p["roi"])
+            if not m:
+                sys.exit("%s: roi %r names no station (want station_<mm>mm)" % (", ".join(paths), p["roi"]))
+            axis = p.get("axis")
+            out.append({"station": int(m.group(1)), "ez": ez, "axis": None if axis is None or axis != axis else axis})
     return out
 
 

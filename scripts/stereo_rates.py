@@ -81,7 +81,8 @@ def failure(message):
 
 
 def read(files, estimator):
-    """Per condition, per pair (seed, frame): cut ok, the cut's message, berries found and visible, IoU."""
+    """Per condition, per pair (seed, frame): cut ok, the cut's message, berries found and visible, IoU,
+    e_z with the pair's roi and the cut's distance to the stalk's axis."""
     pairs = collections.defaultdict(dict)
     for f in files:
         with open(f, newline="") as fh:
@@ -100,6 +101,10 @@ def read(files, estimator):
                     p["found"], p["visible"] = float(r["estimate"]), float(r["truth"])
                 elif q == "cluster_iou" and r["ok"] == "1":
                     p["iou"] = float(r["estimate"])
+                elif q == "cut_z":  # e_z (scripts/cut_ez_split.py); NaN without a cut
+                    p["ez"], p["roi"] = float(r["error"] or "nan"), r["roi"]
+                elif q == "cut_axis_distance":
+                    p["axis"] = float(r["estimate"] or "nan")
     if not pairs:
         sys.exit("stereo_rates.py: no stereo_pair rows in %s" % ", ".join(files))
     return pairs

@@ -10,7 +10,7 @@ import unittest
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
 import cut_ez_split  # noqa: E402
 
-COLUMNS = ["scene", "condition", "bunch", "estimator", "quantity", "estimate", "truth", "error", "roi"]
+COLUMNS = ["scene", "condition", "seed", "frame", "estimator", "quantity", "estimate", "truth", "error", "roi", "ok", "message"]
 
 
 def rows():
@@ -20,10 +20,10 @@ def rows():
     for b, st, ez, ax in pairs:
         roi = "station_%04dmm" % st
         est = "NaN" if ez is None else str(st + ez)
-        yield ["s", "light=front", b, "luo_eq6", "cut_z", est, str(st), "NaN" if ez is None else str(ez), roi]
-        yield ["s", "light=front", b, "luo_eq6", "cut_axis_distance", "NaN" if ax is None else str(ax), "0", "", roi]
+        yield ["s", "light=front", b, 0, "luo_eq6", "cut_z", est, str(st), "NaN" if ez is None else str(ez), roi, "1", ""]
+        yield ["s", "light=front", b, 0, "luo_eq6", "cut_axis_distance", "NaN" if ax is None else str(ax), "0", "", roi, "1", ""]
         # another estimator's rows are not counted
-        yield ["s", "light=front", b, "luo_pinhole", "cut_z", str(st + 500), str(st), "500", roi]
+        yield ["s", "light=front", b, 0, "luo_pinhole", "cut_z", str(st + 500), str(st), "500", roi, "1", ""]
 
 
 class Split(unittest.TestCase):
