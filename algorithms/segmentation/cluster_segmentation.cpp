@@ -18,6 +18,35 @@ double hsi_hue(double r, double g, double b) {
   return (b > g ? 2 * M_PI - theta : theta) / (2 * M_PI);
 }
 
+// The H - I level of one pixel, 0-255: lround((H - I + 1) 127.5), I = (R + G + B) / 3
+// of the 0-1 channels (H - I in [-1, 1]).
+std::uint8_t hue_minus_intensity(std::uint8_t R, std::uint8_t G, std::uint8_t B) {
+  const double r = R / 255.0, g = G / 255.0, b = B / 255.0;
+  const double hi = hsi_hue(r, g, b) - (r + g + b) / 3.0;
+  return static_cast<std::uint8_t>(std::lround((hi + 1.0) * 127.5));
+}
+
+// The same level's real value (before rounding) within 1e-6 (r, g, b: the 0-1
+// channels): acos within 2e-8 rad (Abramowitz & Stegun 4.4.46, with acos(-x) =
+// pi - acos(x)) moves it by at most 127.5 x 2e-8 / (2 pi) < 5e-7. std::acos and its
+// rounding were a third of Luo's pipeline on a `ray` pair (docs/seed001.md, "Speed").
+double hue_minus_intensity_approx(double r, double g, double b) {
+  const double num = 0.5 * ((r - g) + (r - b));
+  const double d2 = (r - g) * (r - g) + (r - b) * (g - b);
+  const double den = std::sqrt(d2 > 0 ? d2 : 0.0);
+  const bool grey = den <= 1e-12;
+  const double q = num / (grey ? 1.0 : den), lo = q < -1.0 ? -1.0 : q, x = lo > 1.0 ? 1.0 : lo;
+  const double a = x < 0 ? -x : x;
+  const double poly =
+      1.5707963050 +
+      a * (-0.2145988016 +
+           a * (0.0889789874 +
+                a * (-0.0501743046 + a * (0.0308918810 + a * (-0.0170881256 + a * (0.0066700901 - a * 0.0012624911))))));
+  const double t = std::sqrt(1 - a) * poly, theta = x < 0 ? M_PI - t : t;
+  const double h = grey ? 0.0 : (b > g ? 2 * M_PI - theta : theta) * (1 / (2 * M_PI));
+  return (h - (r + g + b) / 3.0 + 1.0) * 127.5;
+}
+
 cv::Mat dilation_kernel(const ClusterSegmentationParams& p) {
   return cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * p.dilate_px + 1, 2 * p.dilate_px + 1));
 }
@@ -106,10 +135,15 @@ std::vector<std::uint8_t> cluster_component(const RgbImage& image, ClusterSegmen
     for (std::size_t i = 0; i < n; ++i) out[i] = ycrcb.data[3 * i + 1];
     return out;
   }
+  // The approximate value; within 1e-5 of a half (ties included: a grey pixel's value
+  // can be one) the exact formula rounds. The same bytes as the exact formula for all
+  // 2^24 colours (tests/algorithms/segmentation).
   for (std::size_t i = 0; i < n; ++i) {
-    const double r = image.data[3 * i] / 255.0, g = image.data[3 * i + 1] / 255.0, b = image.data[3 * i + 2] / 255.0;
-    const double hi = hsi_hue(r, g, b) - (r + g + b) / 3.0;  // in [-1, 1]
-    out[i] = static_cast<std::uint8_t>(std::lround((hi + 1.0) * 127.5));
+    const std::uint8_t* rgb = image.data.data() + 3 * i;
+    const double y = hue_minus_intensity_approx(rgb[0] / 255.0, rgb[1] / 255.0, rgb[2] / 255.0) + 0.5;
+    const int q = static_cast<int>(y);  // y > 0: its floor
+    const double f = y - q;
+    out[i] = f > 1e-5 && f < 1 - 1e-5 ? static_cast<std::uint8_t>(q) : hue_minus_intensity(rgb[0], rgb[1], rgb[2]);
   }
   return out;
 }

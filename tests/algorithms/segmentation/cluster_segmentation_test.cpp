@@ -52,5 +52,31 @@ TEST(ClusterSegmentation, RedOnCrAndNothingWithoutAGrape) {
   EXPECT_FALSE(segment_cluster(plain, p).found());
 }
 
+// H - I through the approximate acos (with std::acos near a rounding boundary) is the
+// same level as Gonzalez & Woods' formula with std::acos, for every 8-bit colour.
+TEST(ClusterSegmentation, HueMinusIntensityIsTheExactFormulasForEveryColour) {
+  RgbImage im;
+  im.width = 4096, im.height = 4096;
+  im.data.resize(3u << 24);
+  for (std::uint32_t c = 0; c < (1u << 24); ++c)
+    im.data[3 * c] = c >> 16, im.data[3 * c + 1] = (c >> 8) & 255, im.data[3 * c + 2] = c & 255;
+  const std::vector<std::uint8_t> got = cluster_component(im, ClusterSegmentationParams::Component::HueMinusIntensity);
+  ASSERT_EQ(got.size(), 1u << 24);
+  std::size_t wrong = 0, first = 0;
+  for (std::uint32_t c = 0; c < (1u << 24); ++c) {
+    const double r = (c >> 16) / 255.0, g = ((c >> 8) & 255) / 255.0, b = (c & 255) / 255.0;
+    const double num = 0.5 * ((r - g) + (r - b));
+    const double den = std::sqrt((r - g) * (r - g) + (r - b) * (g - b));
+    double h = 0;
+    if (den > 1e-12) {
+      const double theta = std::acos(std::clamp(num / den, -1.0, 1.0));
+      h = (b > g ? 2 * M_PI - theta : theta) / (2 * M_PI);
+    }
+    const auto want = static_cast<std::uint8_t>(std::lround((h - (r + g + b) / 3.0 + 1.0) * 127.5));
+    if (got[c] != want && wrong++ == 0) first = c;
+  }
+  EXPECT_EQ(wrong, 0u) << "first at colour 0x" << std::hex << first;
+}
+
 }  // namespace
 }  // namespace grapebench
