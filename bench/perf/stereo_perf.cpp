@@ -170,10 +170,9 @@ void BM_RayRenderSceneFoliage(benchmark::State& state) {
 }
 BENCHMARK(BM_RayRenderSceneFoliage)->Unit(benchmark::kMillisecond);
 
-void BM_Luo2016Pipeline(benchmark::State& state) {
+void luo2016_pipeline(benchmark::State& state, const StereoPair& pair) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   cv::setNumThreads(1);
-  const StereoPair& pair = *setup().pair;
   Luo2016Params p;
   Luo2016Result r;
   for (auto _ : state) {
@@ -182,35 +181,27 @@ void BM_Luo2016Pipeline(benchmark::State& state) {
   }
   state.SetLabel(r.ok() ? "ok" : r.failure);
   state.counters["berries"] = static_cast<double>(r.berries.berries.size());
+  state.counters["candidates"] = static_cast<double>(r.berries.candidates);
   state.counters["segmentation_ms"] = 1e3 * r.seconds_segmentation;
+  state.counters["berries_ms"] = 1e3 * r.seconds_berries;
 }
+void BM_Luo2016Pipeline(benchmark::State& state) { luo2016_pipeline(state, *setup().pair); }
 BENCHMARK(BM_Luo2016Pipeline)->Unit(benchmark::kMillisecond);
 
 // The same pipeline on the `ray` renderer's pair of the foliage view (textured
 // leaves and berries: three times the edge points and twice the circles of the OpenGL
 // pair in seed 001's scenes, so the berry stage weighs more).
 void BM_Luo2016PipelineRayFoliage(benchmark::State& state) {
-  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-  cv::setNumThreads(1);
   static const std::shared_ptr<const StereoPair> pair = [] {
     StereoRgbParams p = setup().params;
     p.renderer = StereoRgbParams::Renderer::Ray;
+    const StereoRgb rig(p);
     ScanView view;
-    view.camera = Camera{StereoRgb(p).intrinsics(), setup().pose};
-    view.cloud = StereoRgb(p).capture(foliage_scene(), setup().pose, 5);
+    view.camera = Camera{rig.intrinsics(), setup().pose};
+    view.cloud = rig.capture(foliage_scene(), setup().pose, 5);
     return stereo_input(view).stereo;
   }();
-  Luo2016Params p;
-  Luo2016Result r;
-  for (auto _ : state) {
-    r = luo2016_stereo(*pair, p);
-    benchmark::DoNotOptimize(r.volume.volume);
-  }
-  state.SetLabel(r.ok() ? "ok" : r.failure);
-  state.counters["berries"] = static_cast<double>(r.berries.berries.size());
-  state.counters["candidates"] = static_cast<double>(r.berries.candidates);
-  state.counters["segmentation_ms"] = 1e3 * r.seconds_segmentation;
-  state.counters["berries_ms"] = 1e3 * r.seconds_berries;
+  luo2016_pipeline(state, *pair);
 }
 BENCHMARK(BM_Luo2016PipelineRayFoliage)->Unit(benchmark::kMillisecond);
 
