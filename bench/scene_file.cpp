@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "bench/protocols/registry.h"
@@ -246,7 +247,13 @@ std::string text_without_sweep(const std::string& text, const YAML::Node& root) 
 SceneSet expand(const std::string& text, const std::string& name) {
   SceneSet set;
   const YAML::Node root_yaml = parse_yaml(text, name);
-  set.base = read_scene(ConfigNode::from_yaml(root_yaml, name), name);
+  // The keys the sweep varies: a key read only under one of their values (a `ray`
+  // renderer's camera in a sweep over the renderer) stands in every condition.
+  std::set<std::string> swept;
+  if (root_yaml.IsMap() && root_yaml["sweep"] && root_yaml["sweep"].IsMap())
+    for (const auto& kv : root_yaml["sweep"])
+      if (kv.first.IsScalar()) swept.insert(kv.first.Scalar());
+  set.base = read_scene(ConfigNode::from_yaml(root_yaml, name, swept), name);
   // The expanded size, bounded before anything is expanded (issue 39): the sweep's
   // points times the bunches, each a case.
   std::size_t points = 1, bunches = 0;  // saturating: no product overflows
@@ -297,7 +304,7 @@ SceneSet expand(const std::string& text, const std::string& name) {
     }
     doc.remove("sweep");
     try {
-      c.scene = read_scene(ConfigNode::from_yaml(doc, name), name);
+      c.scene = read_scene(ConfigNode::from_yaml(doc, name, swept), name);
     } catch (const InputError& e) {
       throw InputError(std::string(e.what()) + " (sweep point " + c.label + ")");
     }

@@ -140,13 +140,20 @@ ConfigNode ConfigNode::load_string(const std::string& text, const std::string& n
   return from_yaml(parse_strict(text, name), name);
 }
 
-ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name) {
+ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name) { return from_yaml(std::move(root), name, {}); }
+
+ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name, std::set<std::string> swept) {
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   auto state = std::make_shared<State>();
   state->file = name;
+  state->swept = std::move(swept);
   ConfigNode cfg(root, state, "");
   if (!root.IsMap()) cfg.fail("", "the document must be a mapping of keys to values");
   return cfg;
+}
+
+bool ConfigNode::swept(const std::string& key) const {
+  return state_->swept.count(path_.empty() ? key : path_ + "." + key) > 0;
 }
 
 std::string ConfigNode::where(const std::string& key) const {

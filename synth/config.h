@@ -40,6 +40,9 @@ class ConfigNode {
   // Wraps an already parsed document (e.g. a scene with sweep values substituted;
   // substituted nodes keep the line marks of where their values were written).
   static ConfigNode from_yaml(YAML::Node root, const std::string& name);
+  // The same, for a scene whose sweep varies the keys at `swept` (dotted paths, as
+  // the sweep writes them: "sensor.renderer").
+  static ConfigNode from_yaml(YAML::Node root, const std::string& name, std::set<std::string> swept);
   const YAML::Node& yaml() const { return node_; }
 
   bool has(const std::string& key) const;
@@ -68,6 +71,12 @@ class ConfigNode {
   ConfigNode child(const std::string& key) const;
   std::vector<ConfigNode> children(const std::string& key) const;
 
+  // Whether the document's sweep varies this node's `key`: a key read only under a
+  // value of it may then stand in every condition (its other values' cells leave it).
+  bool swept(const std::string& key) const;
+  // Counts `key` as read without reading it (for report_unused).
+  void skip(const std::string& key) const { used_->insert(key); }
+
   // Throws InputError listing every key of this node and of the children handed out
   // that was never read.
   void report_unused() const;
@@ -85,6 +94,7 @@ class ConfigNode {
   };
   struct State {
     std::string file;
+    std::set<std::string> swept;  // dotted paths the sweep varies
     std::vector<Handed> handed_out;
   };
   ConfigNode(YAML::Node node, std::shared_ptr<State> state, std::string path);

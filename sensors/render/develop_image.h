@@ -21,8 +21,9 @@ struct PhotoCameraParams {
   int sky_samples = 1;           // sky rays a surface sample casts per face (ray renderer), [1, 64]
   int sky_filter = 3;            // passes of the sky light's edge-aware filter (ray renderer): 1 is 5 x 5 px,
                                  // 3 (29 x 29) agrees with Cycles on both seeds (docs/sensors.md item 5), [1, 4]
-  int sky_stride = 1;            // px between pixels that cast sky rays, per axis (ray renderer): 2 casts them
-                                 // from one pixel in 2 x 2, filters there and upsamples, [1, 2]
+  int sky_stride = 2;            // px between pixels that cast sky rays, per axis (ray renderer): 2 casts them
+                                 // from one pixel in 2 x 2, filters there and upsamples; 1 every pixel (the
+                                 // default until 2026-12-07: docs/sensors.md item 8), [1, 2]
   double f_number = 4.0;         // [0 or 1, 32]; 0 = pinhole
   double focus_distance = 0;     // m, [0, 100]; 0 = on the bunch
   enum class Exposure { Auto, Fixed };

@@ -144,6 +144,34 @@ TEST(Scene, SensorRigAndBackgroundSectionsAreStrict) {
   EXPECT_NE(m.find("needs a `sensor:` section"), std::string::npos) << m;
 }
 
+// A key read only under one value of a swept setting (the `ray` renderer's camera in
+// a sweep over the renderer, as seed001_renderers.yaml pins sky_stride) stands in the
+// scene: the ray cells read it, the OpenGL cells leave it. Without that sweep it is
+// still refused.
+TEST(Scene, AKeyOfOneSweptRendererStandsInEveryCondition) {
+  const std::string head = "seed: 1\nbunches:\n  - preset: wine-red\nrig: {type: stereo_stations}\n";
+  const std::string sensor = "sensor:\n  type: stereo_rgb\n  width: 80\n  height: 64\n  light: front\n  camera: {sky_stride: 1}\n";
+  const SceneSet set = parse_scene_set(head + sensor + "sweep:\n  sensor.renderer: [opengl, ray]\n", "scene.yaml");
+  ASSERT_EQ(set.conditions.size(), 2u);
+  const nlohmann::ordered_json opengl = set.conditions[0].scene.sensor->describe();
+  const nlohmann::ordered_json ray = set.conditions[1].scene.sensor->describe();
+  EXPECT_EQ(opengl["renderer"], "opengl");
+  EXPECT_FALSE(opengl.contains("camera")) << opengl.dump();
+  EXPECT_EQ(ray["camera"]["sky_stride"], 1) << ray.dump();  // not the default, 2
+  // Out of range, it is named where a ray cell reads it.
+  auto m = scene_error(head + "sensor:\n  type: stereo_rgb\n  light: front\n  camera: {sky_stride: 3}\nsweep:\n  sensor.renderer: [opengl, ray]\n");
+  EXPECT_NE(m.find("sky_stride"), std::string::npos) << m;
+  EXPECT_NE(m.find("[1, 2]"), std::string::npos) << m;
+  // An unknown key in it is still named.
+  m = scene_error(head + "sensor:\n  type: stereo_rgb\n  light: front\n  camera: {sky_strid: 1}\nsweep:\n  sensor.renderer: [opengl, ray]\n");
+  EXPECT_NE(m.find("sky_strid"), std::string::npos) << m;
+  // Without the sweep, or under a sweep of another key, OpenGL refuses it.
+  for (const std::string& tail : {std::string(), std::string("sweep:\n  sensor.width: [80, 96]\n")}) {
+    m = scene_error(head + sensor + tail);
+    EXPECT_NE(m.find("'sensor.camera': is read only with renderer: ray or cycles"), std::string::npos) << m;
+  }
+}
+
 TEST(SynthRun, OutputsAreByteIdenticalAtAnyThreadCount) {
   const Scene s = parse_scene("seed: 5\nbunches:\n  - preset: wine-red\n    count: 3\n", "t.yaml");
   const auto base = scratch("threads_test");

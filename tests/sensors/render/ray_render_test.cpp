@@ -316,6 +316,7 @@ double sky_noise_correlation(int sky_filter, int d) {
   look.skin_f0 = 0;
   PhotoCameraParams p = pinhole(1);
   p.sky_filter = sky_filter;
+  p.sky_stride = 1;  // the passes' steps in pixels of the full image (2 doubles them)
   const std::vector<float> a = ray_render(scene, cam, light, look, p, 0.006, 7).linear;
   const std::vector<float> b = ray_render(scene, cam, light, look, p, 0.006, 8).linear;
   const OrganisedCloud exact = capture_exact(scene, cam);
