@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -148,9 +149,7 @@ Scene read_scene(const ConfigNode& root, const std::string& path) {
 
 std::string read_scene_text(const std::string& path) { return read_regular_file(path, kMaxSceneFileBytes); }
 
-Scene load_scene(const std::string& path) {
-  return read_scene(ConfigNode::load_string(read_scene_text(path), path), path);
-}
+Scene load_scene(const std::string& path) { return parse_scene(read_scene_text(path), path); }
 
 namespace {
 
@@ -210,6 +209,15 @@ std::string number_label(double v) {
 
 YAML::Node parse_yaml(const std::string& text, const std::string& name) { return ConfigNode::parse_strict(text, name); }
 
+// The keys a document's sweep varies, as written ("sensor.renderer").
+std::set<std::string> swept_keys(const YAML::Node& root) {
+  std::set<std::string> out;
+  if (root.IsMap() && root["sweep"] && root["sweep"].IsMap())
+    for (const auto& kv : root["sweep"])
+      if (kv.first.IsScalar()) out.insert(kv.first.Scalar());
+  return out;
+}
+
 // The scene text with the lines of its top-level `sweep:` block blanked (line
 // numbers elsewhere kept), or "" when the block does not stand on lines of its own.
 std::string text_without_sweep(const std::string& text, const YAML::Node& root) {
@@ -247,13 +255,18 @@ std::string text_without_sweep(const std::string& text, const YAML::Node& root) 
 SceneSet expand(const std::string& text, const std::string& name) {
   SceneSet set;
   const YAML::Node root_yaml = parse_yaml(text, name);
-  // The keys the sweep varies: a key read only under one of their values (a `ray`
-  // renderer's camera in a sweep over the renderer) stands in every condition.
-  std::set<std::string> swept;
-  if (root_yaml.IsMap() && root_yaml["sweep"] && root_yaml["sweep"].IsMap())
-    for (const auto& kv : root_yaml["sweep"])
-      if (kv.first.IsScalar()) swept.insert(kv.first.Scalar());
-  set.base = read_scene(ConfigNode::from_yaml(root_yaml, name, swept), name);
+  const std::set<std::string> swept = swept_keys(root_yaml);
+  // A key read only under some values of a swept key: left by the other cells, it must
+  // be read by at least one (its range and spelling checked there).
+  std::map<std::string, std::string> skipped;
+  std::set<std::string> read_somewhere;
+  const auto gather = [&](const ConfigNode& cfg) {
+    skipped.insert(cfg.skipped_keys().begin(), cfg.skipped_keys().end());
+    read_somewhere.insert(cfg.conditional_keys_read().begin(), cfg.conditional_keys_read().end());
+  };
+  const ConfigNode base = ConfigNode::from_yaml(root_yaml, name, swept);
+  set.base = read_scene(base, name);
+  gather(base);
   // The expanded size, bounded before anything is expanded (issue 39): the sweep's
   // points times the bunches, each a case.
   std::size_t points = 1, bunches = 0;  // saturating: no product overflows
@@ -304,7 +317,9 @@ SceneSet expand(const std::string& text, const std::string& name) {
     }
     doc.remove("sweep");
     try {
-      c.scene = read_scene(ConfigNode::from_yaml(doc, name, swept), name);
+      const ConfigNode cfg = ConfigNode::from_yaml(doc, name, swept);
+      c.scene = read_scene(cfg, name);
+      gather(cfg);
     } catch (const InputError& e) {
       throw InputError(std::string(e.what()) + " (sweep point " + c.label + ")");
     }
@@ -318,6 +333,8 @@ SceneSet expand(const std::string& text, const std::string& name) {
       set.conditions.push_back(condition(flat, true));  // throws again, naming the value's line
     }
   }
+  for (const auto& [path, message] : skipped)
+    if (!read_somewhere.count(path)) throw InputError(message + "; no value of the sweep selects it");
   return set;
 }
 
@@ -327,8 +344,15 @@ SceneSet parse_scene_set(const std::string& text, const std::string& name) { ret
 
 SceneSet load_scene_set(const std::string& path) { return parse_scene_set(read_scene_text(path), path); }
 
+// The scene at its written (nominal) values. A key its sweep's cells read and these
+// values do not is left here, as the cells that exclude it leave it; the sweep is
+// expanded to check that some cell reads it.
 Scene parse_scene(const std::string& text, const std::string& name) {
-  return read_scene(ConfigNode::load_string(text, name), name);
+  const YAML::Node root = parse_yaml(text, name);
+  const ConfigNode cfg = ConfigNode::from_yaml(root, name, swept_keys(root));
+  Scene s = read_scene(cfg, name);
+  if (!cfg.skipped_keys().empty()) expand(text, name);
+  return s;
 }
 
 }  // namespace grapebench

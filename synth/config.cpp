@@ -156,6 +156,16 @@ bool ConfigNode::swept(const std::string& key) const {
   return state_->swept.count(path_.empty() ? key : path_ + "." + key) > 0;
 }
 
+void ConfigNode::skip(const std::string& key, const std::string& why) const {
+  used_->insert(key);
+  const std::string path = path_.empty() ? key : path_ + "." + key;
+  state_->skipped.emplace(path, where(key) + ": '" + path + "': " + why);
+}
+
+void ConfigNode::note_conditional_read(const std::string& key) const {
+  state_->conditional_read.insert(path_.empty() ? key : path_ + "." + key);
+}
+
 std::string ConfigNode::where(const std::string& key) const {
   if (!key.empty() && node_.IsMap() && node_[key]) {
     // The key's own line where the parser marked it (a nested mapping's value starts on

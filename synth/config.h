@@ -10,6 +10,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -74,8 +75,15 @@ class ConfigNode {
   // Whether the document's sweep varies this node's `key`: a key read only under a
   // value of it may then stand in every condition (its other values' cells leave it).
   bool swept(const std::string& key) const;
-  // Counts `key` as read without reading it (for report_unused).
-  void skip(const std::string& key) const { used_->insert(key); }
+  // A key left under such a sweep: counted as read for report_unused and recorded,
+  // with `why` (its condition), so that a sweep none of whose cells reads it can fail.
+  void skip(const std::string& key, const std::string& why) const;
+  // A key read under its condition (the other half of that check).
+  void note_conditional_read(const std::string& key) const;
+  // By dotted path: the keys left, each with its message ("file:line: 'path': why"),
+  // and the conditional keys read.
+  const std::map<std::string, std::string>& skipped_keys() const { return state_->skipped; }
+  const std::set<std::string>& conditional_keys_read() const { return state_->conditional_read; }
 
   // Throws InputError listing every key of this node and of the children handed out
   // that was never read.
@@ -95,6 +103,8 @@ class ConfigNode {
   struct State {
     std::string file;
     std::set<std::string> swept;  // dotted paths the sweep varies
+    std::map<std::string, std::string> skipped;
+    std::set<std::string> conditional_read;
     std::vector<Handed> handed_out;
   };
   ConfigNode(YAML::Node node, std::shared_ptr<State> state, std::string path);

@@ -14,8 +14,10 @@
 //
 // A row may apply only under a condition on fields read before it (`when`): a
 // key the condition excludes is an error naming the condition ("read only with
-// solver: screened"), never silently ignored. Cross-field rules go in
-// `validate`.
+// solver: screened"), never silently ignored; under a sweep of the key the
+// condition names ("key: ..."), the cells that exclude it leave it, and a sweep
+// none of whose cells reads it is that error (bench/scene_file.cpp). Cross-field
+// rules go in `validate`.
 #pragma once
 
 #include <algorithm>
@@ -344,6 +346,7 @@ class ParamTable {
       active_keys.insert(r.key);
       if (node.has(r.key)) {
         r.read(node, r.key, v);
+        if (r.active) node.note_conditional_read(r.key);
       } else if (r.required) {
         node.fail(r.key, "missing: " + r.doc);
       }
@@ -351,10 +354,12 @@ class ParamTable {
     for (const Row& r : rows_) {
       if (r.active && !r.active(v) && !active_keys.count(r.key) && node.has(r.key)) {
         // Under a sweep of the setting it depends on ("renderer: ray" and a sweep of
-        // renderer), the cells of the other values leave it; those of this one read it.
-        const std::string on = r.when.substr(0, r.when.find(':'));
-        if (node.swept(on)) {
-          node.skip(r.key);
+        // renderer), the cells of the other values leave it; those of this one read it
+        // (and a sweep where none does fails: bench/scene_file.cpp).
+        const std::size_t colon = r.when.find(':');
+        const std::string on = colon == std::string::npos ? std::string() : r.when.substr(0, colon);
+        if (!on.empty() && on.find(' ') == std::string::npos && node.swept(on)) {
+          node.skip(r.key, "is read only with " + r.when);
           continue;
         }
         node.fail(r.key, "is read only with " + r.when + "; remove it or change that setting");

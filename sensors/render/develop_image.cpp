@@ -127,7 +127,7 @@ const ParamTable<PhotoCameraParams>& photo_camera_param_table() {
                    "in 2 x 2, the filter's passes run on that grid (steps 2, 4, 8 px) and every other pixel takes "
                    "the light of the grid's nearest compatible pixels (a joint bilateral upsampling on part, depth "
                    "and normal, as the filter weighs; Kopf et al. 2007); a pixel with none casts its own. 2, the "
-                   "default since 2026-12-07: 0.51-0.81 of 1's time, each of item 5's figures against Cycles inside "
+                   "default since 2026-12-07: 0.63-0.81 of 1's time, each of item 5's figures against Cycles inside "
                    "its target where 1's is, and seed 004's saliency AUC nearer (docs/sensors.md, items 5 and 8)")
           .real("f_number", "-", &P::f_number, 0, 32,
                 "aperture of the thin lens, 0: pinhole (assumed f/4 for a 6 mm machine-vision lens)")

@@ -170,6 +170,19 @@ TEST(Scene, AKeyOfOneSweptRendererStandsInEveryCondition) {
     m = scene_error(head + sensor + tail);
     EXPECT_NE(m.find("'sensor.camera': is read only with renderer: ray or cycles"), std::string::npos) << m;
   }
+  // A key no swept value reads (Cycles' settings in a sweep of OpenGL and ray) is an
+  // error, as without the sweep, even misspelt inside.
+  m = scene_error(head + "sensor:\n  type: stereo_rgb\n  light: front\n  cycles: {smaples: 1}\nsweep:\n"
+                         "  sensor.renderer: [opengl, ray]\n");
+  EXPECT_NE(m.find("scene.yaml:8: 'sensor.cycles': is read only with renderer: cycles; no value of the sweep selects it"),
+            std::string::npos) << m;
+  // `scan` and `synth` read the scene at its written values: the OpenGL scene, the
+  // camera left; and refused where no cell reads it.
+  const Scene nominal = parse_scene(head + sensor + "sweep:\n  sensor.renderer: [opengl, ray]\n", "scene.yaml");
+  EXPECT_EQ(nominal.sensor->describe()["renderer"], "opengl");
+  m = error_of(head + "sensor:\n  type: stereo_rgb\n  light: front\n  cycles: {samples: 4}\nsweep:\n"
+                      "  sensor.renderer: [opengl, ray]\n");
+  EXPECT_NE(m.find("no value of the sweep selects it"), std::string::npos) << m;
 }
 
 TEST(SynthRun, OutputsAreByteIdenticalAtAnyThreadCount) {
