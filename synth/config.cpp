@@ -140,8 +140,6 @@ ConfigNode ConfigNode::load_string(const std::string& text, const std::string& n
   return from_yaml(parse_strict(text, name), name);
 }
 
-ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name) { return from_yaml(std::move(root), name, {}); }
-
 ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name, std::set<std::string> swept) {
   if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
   auto state = std::make_shared<State>();
@@ -152,18 +150,22 @@ ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& name, std::
   return cfg;
 }
 
+std::string ConfigNode::full_path(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
+
 bool ConfigNode::swept(const std::string& key) const {
-  return state_->swept.count(path_.empty() ? key : path_ + "." + key) > 0;
+  return state_->swept.count(full_path(key)) > 0;
 }
 
 void ConfigNode::skip(const std::string& key, const std::string& why) const {
   used_->insert(key);
-  const std::string path = path_.empty() ? key : path_ + "." + key;
+  const std::string path = full_path(key);
   state_->skipped.emplace(path, where(key) + ": '" + path + "': " + why);
 }
 
 void ConfigNode::note_conditional_read(const std::string& key) const {
-  state_->conditional_read.insert(path_.empty() ? key : path_ + "." + key);
+  state_->conditional_read.insert(full_path(key));
 }
 
 std::string ConfigNode::where(const std::string& key) const {
@@ -181,8 +183,7 @@ std::string ConfigNode::where(const std::string& key) const {
 }
 
 void ConfigNode::fail(const std::string& key, const std::string& message) const {
-  std::string name = path_;
-  if (!key.empty()) name += (name.empty() ? "" : ".") + key;
+  const std::string name = key.empty() ? path_ : full_path(key);
   throw InputError(where(key) + ": " + (name.empty() ? "" : "'" + name + "': ") + message);
 }
 
@@ -364,7 +365,7 @@ nlohmann::ordered_json ConfigNode::get_json(const std::string& key) const {
 ConfigNode ConfigNode::child(const std::string& key) const {
   const YAML::Node v = value(key);
   if (!v.IsMap()) fail(key, "expected a mapping of keys to values");
-  ConfigNode c(v, state_, path_.empty() ? key : path_ + "." + key);
+  ConfigNode c(v, state_, full_path(key));
   state_->handed_out.push_back({c.node_, c.path_, c.used_});
   return c;
 }
@@ -374,7 +375,7 @@ std::vector<ConfigNode> ConfigNode::children(const std::string& key) const {
   if (!v.IsSequence()) fail(key, "expected a list of mappings");
   std::vector<ConfigNode> out;
   for (std::size_t i = 0; i < v.size(); ++i) {
-    const std::string p = (path_.empty() ? key : path_ + "." + key) + "[" + std::to_string(i) + "]";
+    const std::string p = full_path(key) + "[" + std::to_string(i) + "]";
     if (!v[i].IsMap()) {
       throw InputError(state_->file + ":" + line_of(v[i]) + ": '" + p +
                        "': expected a mapping of keys to values");

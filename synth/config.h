@@ -40,10 +40,9 @@ class ConfigNode {
   static YAML::Node parse_strict(const std::string& text, const std::string& name);
   // Wraps an already parsed document (e.g. a scene with sweep values substituted;
   // substituted nodes keep the line marks of where their values were written).
-  static ConfigNode from_yaml(YAML::Node root, const std::string& name);
-  // The same, for a scene whose sweep varies the keys at `swept` (dotted paths, as
-  // the sweep writes them: "sensor.renderer").
-  static ConfigNode from_yaml(YAML::Node root, const std::string& name, std::set<std::string> swept);
+  // `swept`: the keys the scene's sweep varies (dotted paths, as the sweep writes
+  // them: "sensor.renderer").
+  static ConfigNode from_yaml(YAML::Node root, const std::string& name, std::set<std::string> swept = {});
   const YAML::Node& yaml() const { return node_; }
 
   bool has(const std::string& key) const;
@@ -109,6 +108,7 @@ class ConfigNode {
   };
   ConfigNode(YAML::Node node, std::shared_ptr<State> state, std::string path);
   YAML::Node value(const std::string& key) const;
+  std::string full_path(const std::string& key) const;  // "sensor.camera.key"
 
   YAML::Node node_;
   std::shared_ptr<State> state_;
