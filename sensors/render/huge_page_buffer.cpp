@@ -56,12 +56,7 @@ void FreeHugePages::operator()(void* p) const noexcept {
     k.bytes -= k.blocks.front().bytes;
     k.blocks.erase(k.blocks.begin());
   }
-  try {
-    k.blocks.push_back({p, bytes});  // capacity kKeepBlocks reserved: no allocation
-  } catch (...) {
-    std::free(p);
-    return;
-  }
+  k.blocks.push_back({p, bytes});  // the loop keeps size < kKeepBlocks, reserved: no allocation
   k.bytes += bytes;
   ASAN_POISON_MEMORY_REGION(p, bytes);  // a read after release is still caught
 }
